@@ -1,0 +1,7 @@
+//! COMGEOM / GIFT fixed-column decks.
+use crate::{Diagnostics, LoadOptions, Loaded, SourceFile, Diagnostic};
+
+/// Read a COMGEOM deck.
+pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics> {
+    Err(Diagnostic::error(src, 0, 0, "COMGEOM reader not written yet").into())
+}

@@ -1,0 +1,161 @@
+use crate::{Camera, Light};
+use sv_geom::Geometry;
+
+/// Length units of a model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Units {
+    /// Inches (the COMGEOM default).
+    #[default]
+    Inch,
+    /// Feet.
+    Foot,
+    /// Millimetres.
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Metres.
+    Metre,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn mm(self) -> f64 {
+        match self {
+            Units::Inch => 25.4,
+            Units::Foot => 304.8,
+            Units::Millimetre => 1.0,
+            Units::Centimetre => 10.0,
+            Units::Metre => 1000.0,
+        }
+    }
+
+    /// Short name as on a COMGEOM title card.
+    pub fn abbrev(self) -> &'static str {
+        match self {
+            Units::Inch => "in",
+            Units::Foot => "ft",
+            Units::Millimetre => "mm",
+            Units::Centimetre => "cm",
+            Units::Metre => "m",
+        }
+    }
+
+    /// Parse a unit name (`in`, `inch`, `mm`, …), ignoring case.
+    pub fn parse(s: &str) -> Option<Units> {
+        Some(match s.trim().to_ascii_lowercase().as_str() {
+            "in" | "inch" | "inches" => Units::Inch,
+            "ft" | "foot" | "feet" => Units::Foot,
+            "mm" | "millimetre" | "millimeter" | "millimetres" | "millimeters" => Units::Millimetre,
+            "cm" | "centimetre" | "centimeter" | "centimetres" | "centimeters" => Units::Centimetre,
+            "m" | "metre" | "meter" | "metres" | "meters" => Units::Metre,
+            _ => return None,
+        })
+    }
+}
+
+/// Background of the picture.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Background {
+    /// A flat colour (linear RGB; grey when all three are equal).
+    Colour([f64; 3]),
+}
+
+impl Default for Background {
+    fn default() -> Self {
+        Background::Colour([0.0; 3])
+    }
+}
+
+/// Optical properties and metadata of a region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RegionProps {
+    /// Coefficient of reflection k (0…1).
+    pub k: f64,
+    /// Colour (linear RGB); `None` is white, the paper's grey picture.
+    pub colour: Option<[f64; 3]>,
+    /// Transparent regions let light through ("x-ray vision").
+    pub transparent: bool,
+    /// COMGEOM ident (item) code.
+    pub ident: i64,
+    /// COMGEOM air code (non-zero marks air).
+    pub air: i64,
+    /// Material code.
+    pub material: i64,
+    /// Line-of-sight thickness percent.
+    pub los: i64,
+    /// Density in g/cm³, when known (for masses).
+    pub density: Option<f64>,
+    /// Free-text description (the deck's comment column).
+    pub description: String,
+}
+
+impl Default for RegionProps {
+    fn default() -> Self {
+        RegionProps {
+            k: 0.8,
+            colour: None,
+            transparent: false,
+            ident: 0,
+            air: 0,
+            material: 0,
+            los: 100,
+            density: None,
+            description: String::new(),
+        }
+    }
+}
+
+/// A complete scene: geometry, camera, lights and picture settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Title (from the deck's title card or `TITLE`).
+    pub title: String,
+    /// Length units of the geometry.
+    pub units: Units,
+    /// Bodies and regions.
+    pub geometry: Geometry,
+    /// One entry per region, same order as `geometry.regions`.
+    pub regions: Vec<RegionProps>,
+    /// Camera, or `None` to frame the model automatically.
+    pub camera: Option<Camera>,
+    /// Light sources; empty means a default light over the viewer's shoulder.
+    pub lights: Vec<Light>,
+    /// Ambient intensity A₀.
+    pub ambient: f64,
+    /// Background.
+    pub background: Background,
+    /// Cast shadows (a blocked light contributes nothing).
+    pub shadows: bool,
+    /// Raster size, when the scene sets one.
+    pub size: Option<(u32, u32)>,
+    /// Notes for the user produced while reading (for example "LATTICE
+    /// replicas are not drawn").
+    pub notes: Vec<String>,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene {
+            title: String::new(),
+            units: Units::default(),
+            geometry: Geometry::default(),
+            regions: Vec::new(),
+            camera: None,
+            lights: Vec::new(),
+            ambient: 0.15,
+            background: Background::default(),
+            shadows: true,
+            size: None,
+            notes: Vec::new(),
+        }
+    }
+}
+
+impl Scene {
+    /// Add a region with its properties, keeping both lists aligned.
+    pub fn push_region(&mut self, region: sv_geom::Region, props: RegionProps) -> usize {
+        self.geometry.regions.push(region);
+        self.regions.push(props);
+        self.geometry.regions.len() - 1
+    }
+}

@@ -1,8 +1,32 @@
 //! Combinatorial Geometry: bodies, regions and ray/region intervals.
+//!
+//! A body knows only where a ray enters and leaves it ([`shape`]); the
+//! booleans of regions are a separate pass over those segments
+//! ([`boolean`]); [`Prepared`] holds the flat arrays of prepared bodies,
+//! zones and a bounding volume hierarchy that the tracer walks.
+//!
+//! ```
+//! use sv_geom::{Body, BodyKind, Geometry, Region, Zone, Term, Op, Prepared, PrepareOptions, Scratch};
+//! use sv_math::{DVec3, Ray};
+//! let mut g = Geometry::default();
+//! g.bodies.push(Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]));
+//! g.regions.push(Region { name: "B".into(), zones: vec![Zone { terms: vec![Term { op: Op::Inside, body: 0 }] }] });
+//! let (p, _warnings) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
+//! let mut s = Scratch::new(&p);
+//! let hit = p.first_hit(&Ray::new(DVec3::new(0.0, 0.0, -5.0), DVec3::Z), 0.0, f64::INFINITY, &mut s).unwrap();
+//! assert!((hit.t - 4.0).abs() < 1e-12);
+//! ```
 #![warn(missing_docs)]
 
+pub mod boolean;
+mod bvh;
 mod model;
+mod prepare;
+pub mod shape;
 pub mod table;
+mod trace;
 
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
+pub use prepare::{PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
+pub use trace::{Crossing, Hit, Partition, Scratch};

@@ -1,0 +1,266 @@
+use super::poly::roots_in;
+use super::{segments_by_classification, Seg};
+use sv_math::{Aabb, DMat3, DVec3, Ray};
+
+/// Face numbers of cones.
+pub(crate) const LATERAL: u32 = 0;
+pub(crate) const BASE: u32 = 1;
+pub(crate) const TOP: u32 = 2;
+
+/// Bounds of the ellipse `c + a cosφ + b sinφ`.
+fn ellipse_bounds(c: DVec3, a: DVec3, b: DVec3) -> Aabb {
+    let e = DVec3::new(a.x.hypot(b.x), a.y.hypot(b.y), a.z.hypot(b.z));
+    Aabb::new(c - e, c + e)
+}
+
+/// Local frame shared by the cones: `x = v + M p` with the base semi-axes
+/// and the height vector as the columns of `M`, so the base is the unit
+/// disc at `p.z = 0` and the top lies at `p.z = 1`.
+#[derive(Clone, Debug)]
+struct Frame {
+    v: DVec3,
+    m: DMat3,
+    inv: DMat3,
+    inv_t: DMat3,
+}
+
+impl Frame {
+    fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3) -> Frame {
+        let m = DMat3::from_cols(a, b, h);
+        let inv = m.inverse();
+        Frame { v, m, inv, inv_t: inv.transpose() }
+    }
+
+    #[inline]
+    fn local(&self, ray: &Ray) -> (DVec3, DVec3) {
+        (self.inv * (ray.origin - self.v), self.inv * ray.dir)
+    }
+
+    /// Parameter range inside the slab `0 <= z <= 1`, with entry/exit faces.
+    #[inline]
+    fn slab(o: DVec3, d: DVec3) -> Option<(f64, f64, u32, u32)> {
+        if d.z == 0.0 {
+            if o.z < 0.0 || o.z > 1.0 {
+                return None;
+            }
+            return Some((f64::NEG_INFINITY, f64::INFINITY, LATERAL, LATERAL));
+        }
+        let ta = -o.z / d.z;
+        let tb = (1.0 - o.z) / d.z;
+        Some(if d.z > 0.0 { (ta, tb, BASE, TOP) } else { (tb, ta, TOP, BASE) })
+    }
+
+    fn world_normal(&self, g: DVec3) -> DVec3 {
+        (self.inv_t * g).normalize()
+    }
+
+    fn bounds(&self, ra: f64, rb: f64) -> Aabb {
+        let (a, b, h) = (self.m.x_axis, self.m.y_axis, self.m.z_axis);
+        ellipse_bounds(self.v, a, b).union(&ellipse_bounds(self.v + h, a * ra, b * rb))
+    }
+}
+
+/// A truncated cone whose top ellipse is the base ellipse scaled by `ratio`
+/// (RCC, REC, TRC, TEC; a TGC with equal axis ratios). Convex.
+#[derive(Clone, Debug)]
+pub struct Cone {
+    f: Frame,
+    /// `ratio - 1`: the cross-section at height z is scaled by `1 + k z`.
+    k: f64,
+}
+
+impl Cone {
+    /// Base centre `v`, base semi-axes `a`, `b`, height `h`, and the ratio of
+    /// the top axes to the base axes.
+    pub fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3, ratio: f64) -> Cone {
+        Cone { f: Frame::new(v, a, b, h), k: ratio - 1.0 }
+    }
+
+    #[inline]
+    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        let (o, d) = self.f.local(ray);
+        let Some((mut t0, mut t1, mut f0, mut f1)) = Frame::slab(o, d) else { return };
+        let k = self.k;
+        let s0 = 1.0 + k * o.z;
+        let a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
+        let b = o.x * d.x + o.y * d.y - k * d.z * s0;
+        let c = o.x * o.x + o.y * o.y - s0 * s0;
+        let scale = d.length_squared();
+        let (l0, l1) = if a.abs() <= 1e-12 * scale {
+            // The ray runs parallel to a generator: one crossing at most.
+            if b == 0.0 {
+                if c >= 0.0 {
+                    return;
+                }
+                (f64::NEG_INFINITY, f64::INFINITY)
+            } else {
+                let t = -c / (2.0 * b);
+                if b > 0.0 { (f64::NEG_INFINITY, t) } else { (t, f64::INFINITY) }
+            }
+        } else {
+            let disc = b * b - a * c;
+            if disc < 0.0 {
+                return;
+            }
+            let q = -(b + b.signum() * disc.sqrt());
+            let (r0, r1) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
+            let (r0, r1) = if r0 < r1 { (r0, r1) } else { (r1, r0) };
+            if a > 0.0 {
+                (r0, r1)
+            } else {
+                // Inside is outside the roots; within the slab only the
+                // nappe of the body exists, so keep the piece meeting it.
+                let before = r0 > t0;
+                let after = r1 < t1;
+                match (before, after) {
+                    (true, false) => (f64::NEG_INFINITY, r0),
+                    (false, true) => (r1, f64::INFINITY),
+                    (true, true) => {
+                        // Both pieces reach the slab only through rounding
+                        // near the apex: keep the longer one.
+                        if r0 - t0 >= t1 - r1 { (f64::NEG_INFINITY, r0) } else { (r1, f64::INFINITY) }
+                    }
+                    (false, false) => return,
+                }
+            }
+        };
+        if l0 > t0 {
+            t0 = l0;
+            f0 = LATERAL;
+        }
+        if l1 < t1 {
+            t1 = l1;
+            f1 = LATERAL;
+        }
+        if t0 < t1 {
+            out.push(Seg { t0, t1, f0, f1 });
+        }
+    }
+
+    pub(crate) fn normal(&self, face: u32, p: DVec3) -> DVec3 {
+        match face {
+            BASE => self.f.world_normal(-DVec3::Z),
+            TOP => self.f.world_normal(DVec3::Z),
+            _ => {
+                let q = self.f.inv * (p - self.f.v);
+                self.f.world_normal(DVec3::new(q.x, q.y, -self.k * (1.0 + self.k * q.z)))
+            }
+        }
+    }
+
+    pub(crate) fn contains(&self, p: DVec3) -> bool {
+        let q = self.f.inv * (p - self.f.v);
+        let s = 1.0 + self.k * q.z;
+        q.z > 0.0 && q.z < 1.0 && q.x * q.x + q.y * q.y < s * s
+    }
+
+    pub(crate) fn bounds(&self) -> Aabb {
+        self.f.bounds(1.0 + self.k, 1.0 + self.k)
+    }
+}
+
+/// A TGC whose top semi-axes are not in the base's proportion: the lateral
+/// surface `x²/sa(z)² + y²/sb(z)² = 1` is a quartic along a ray and the
+/// body need not be convex.
+#[derive(Clone, Debug)]
+pub struct GeneralCone {
+    f: Frame,
+    ka: f64,
+    kb: f64,
+}
+
+/// Multiply polynomials (ascending powers) into `out`.
+fn mul(a: &[f64], b: &[f64], out: &mut [f64]) {
+    out.iter_mut().for_each(|v| *v = 0.0);
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            out[i + j] += x * y;
+        }
+    }
+}
+
+impl GeneralCone {
+    /// Base centre `v`, base semi-axes `a`, `b`, height `h`; the top
+    /// semi-axes are `a·ra` and `b·rb`.
+    pub fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3, ra: f64, rb: f64) -> GeneralCone {
+        GeneralCone { f: Frame::new(v, a, b, h), ka: ra - 1.0, kb: rb - 1.0 }
+    }
+
+    fn inside_local(&self, q: DVec3) -> bool {
+        let sa = 1.0 + self.ka * q.z;
+        let sb = 1.0 + self.kb * q.z;
+        q.z > 0.0 && q.z < 1.0 && (q.x / sa).powi(2) + (q.y / sb).powi(2) < 1.0
+    }
+
+    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        let (o, d) = self.f.local(ray);
+        let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else { return };
+        // Bound the search by the box of the two end ellipses in local space.
+        // z is left loose: the slab above already bounds it, and a box face
+        // coinciding with a cap would steal its face label by rounding.
+        let lb = Aabb::new(DVec3::new(-m2(self.ka), -m2(self.kb), -1.0), DVec3::new(m2(self.ka), m2(self.kb), 2.0));
+        let lray = Ray { origin: o, dir: d, inv_dir: d.recip() };
+        let Some((b0, b1)) = lb.ray_range(&lray) else { return };
+        let (lo, hi) = (t0.max(b0), t1.min(b1));
+        if !(lo < hi) {
+            return;
+        }
+        // Shift the origin to `lo` for conditioning.
+        let os = o + d * lo;
+        let x = [os.x, d.x];
+        let y = [os.y, d.y];
+        let sa = [1.0 + self.ka * os.z, self.ka * d.z];
+        let sb = [1.0 + self.kb * os.z, self.kb * d.z];
+        let (mut x2, mut y2, mut sa2, mut sb2) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        mul(&x, &x, &mut x2);
+        mul(&y, &y, &mut y2);
+        mul(&sa, &sa, &mut sa2);
+        mul(&sb, &sb, &mut sb2);
+        let (mut p1, mut p2, mut p3) = ([0.0; 5], [0.0; 5], [0.0; 5]);
+        mul(&x2, &sb2, &mut p1);
+        mul(&y2, &sa2, &mut p2);
+        mul(&sa2, &sb2, &mut p3);
+        let poly: [f64; 5] = std::array::from_fn(|i| p1[i] + p2[i] - p3[i]);
+        let mut roots = [0.0; 4];
+        let n = roots_in(&poly, 0.0, hi - lo, &mut roots);
+        let mut cands = [(0.0, 0u32); 6];
+        cands[0] = (lo, if lo == t0 { f0 } else { LATERAL });
+        cands[1] = (hi, if hi == t1 { f1 } else { LATERAL });
+        for i in 0..n {
+            cands[2 + i] = (roots[i] + lo, LATERAL);
+        }
+        let world_inside = |p: DVec3| self.inside_local(self.f.inv * (p - self.f.v));
+        segments_by_classification(&mut cands[..2 + n], ray, world_inside, out);
+    }
+
+    pub(crate) fn normal(&self, face: u32, p: DVec3) -> DVec3 {
+        match face {
+            BASE => self.f.world_normal(-DVec3::Z),
+            TOP => self.f.world_normal(DVec3::Z),
+            _ => {
+                let q = self.f.inv * (p - self.f.v);
+                let sa = 1.0 + self.ka * q.z;
+                let sb = 1.0 + self.kb * q.z;
+                let g = DVec3::new(
+                    q.x / (sa * sa),
+                    q.y / (sb * sb),
+                    -(q.x * q.x * self.ka / (sa * sa * sa) + q.y * q.y * self.kb / (sb * sb * sb)),
+                );
+                self.f.world_normal(g)
+            }
+        }
+    }
+
+    pub(crate) fn contains(&self, p: DVec3) -> bool {
+        self.inside_local(self.f.inv * (p - self.f.v))
+    }
+
+    pub(crate) fn bounds(&self) -> Aabb {
+        self.f.bounds(1.0 + self.ka, 1.0 + self.kb)
+    }
+}
+
+/// Largest local half-width of a cross-section over `0 <= z <= 1`.
+fn m2(k: f64) -> f64 {
+    1.0f64.max(1.0 + k)
+}

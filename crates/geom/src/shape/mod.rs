@@ -1,0 +1,179 @@
+//! Prepared bodies: the form `prepare` computes once (inverse matrices,
+//! squared radii, plane sets), and where a ray enters and leaves them.
+//!
+//! Every shape reports *segments* on the whole line of the ray
+//! (`-inf < t < +inf`), each tagged with the face crossed at either end, so
+//! that results can be cached per ray and reused by every region that
+//! mentions the body. Convex bodies give at most one segment; the torus, the
+//! general TGC, quadrics and faceted ARS solids may give several.
+
+mod cone;
+mod mesh;
+mod poly;
+pub(crate) mod polyhedron;
+mod quadric;
+mod sphere;
+mod torus;
+
+pub use cone::{Cone, GeneralCone};
+pub use mesh::Mesh;
+pub use polyhedron::{Plane, Polyhedron};
+pub use quadric::{Ellipsoid, Quadric};
+pub use sphere::Sphere;
+pub use torus::Torus;
+
+use sv_math::{Aabb, DVec3, Ray};
+
+/// A stretch of the ray inside a body, with the faces crossed at its ends.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seg {
+    /// Entry parameter (may be `-inf`).
+    pub t0: f64,
+    /// Exit parameter (may be `+inf`).
+    pub t1: f64,
+    /// Face crossed on entry.
+    pub f0: u32,
+    /// Face crossed on exit.
+    pub f1: u32,
+}
+
+/// A body ready for ray casting.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    /// Sphere.
+    Sphere(Sphere),
+    /// Ellipsoid (ELL, ELL1, ELLG).
+    Ellipsoid(Ellipsoid),
+    /// Cylinder or truncated cone with similar end ellipses (RCC, REC, TRC,
+    /// TEC, and TGC with equal axis ratios).
+    Cone(Cone),
+    /// TGC whose top ellipse is not similar to the base (quartic surface).
+    GeneralCone(GeneralCone),
+    /// Convex polyhedron or half-space (RPP, BOX, RAW, ARB*, HAF, PLA, XYP…).
+    Polyhedron(Polyhedron),
+    /// General quadric (QUA, infinite cylinders).
+    Quadric(Quadric),
+    /// Torus.
+    Torus(Torus),
+    /// Closed triangle mesh (ARS).
+    Mesh(Mesh),
+}
+
+impl Shape {
+    /// Append the segments of the ray's line inside the body to `out`,
+    /// sorted and disjoint.
+    #[inline]
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        match self {
+            Shape::Sphere(s) => s.shoot(ray, out),
+            Shape::Ellipsoid(s) => s.shoot(ray, out),
+            Shape::Cone(s) => s.shoot(ray, out),
+            Shape::GeneralCone(s) => s.shoot(ray, out),
+            Shape::Polyhedron(s) => s.shoot(ray, out),
+            Shape::Quadric(s) => s.shoot(ray, out),
+            Shape::Torus(s) => s.shoot(ray, out),
+            Shape::Mesh(s) => s.shoot(ray, out),
+        }
+    }
+
+    /// Outward unit normal of `face` at point `p` (on that face).
+    pub fn normal(&self, face: u32, p: DVec3) -> DVec3 {
+        match self {
+            Shape::Sphere(s) => s.normal(p),
+            Shape::Ellipsoid(s) => s.normal(p),
+            Shape::Cone(s) => s.normal(face, p),
+            Shape::GeneralCone(s) => s.normal(face, p),
+            Shape::Polyhedron(s) => s.normal(face),
+            Shape::Quadric(s) => s.normal(p),
+            Shape::Torus(s) => s.normal(p),
+            Shape::Mesh(s) => s.normal(face),
+        }
+    }
+
+    /// True when `p` is strictly inside (used by tests, checks and volume
+    /// sampling; the tracer never needs it).
+    pub fn contains(&self, p: DVec3) -> bool {
+        match self {
+            Shape::Sphere(s) => s.contains(p),
+            Shape::Ellipsoid(s) => s.contains(p),
+            Shape::Cone(s) => s.contains(p),
+            Shape::GeneralCone(s) => s.contains(p),
+            Shape::Polyhedron(s) => s.contains(p),
+            Shape::Quadric(s) => s.contains(p),
+            Shape::Torus(s) => s.contains(p),
+            Shape::Mesh(s) => s.contains(p),
+        }
+    }
+
+    /// Bounds (infinite sides for unbounded bodies).
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Ellipsoid(s) => s.bounds(),
+            Shape::Cone(s) => s.bounds(),
+            Shape::GeneralCone(s) => s.bounds(),
+            Shape::Polyhedron(s) => s.bounds(),
+            Shape::Quadric(_) => Aabb::INFINITE,
+            Shape::Torus(s) => s.bounds(),
+            Shape::Mesh(s) => s.bounds(),
+        }
+    }
+
+    /// True for shapes whose segments are always a single convex stretch.
+    pub fn is_convex(&self) -> bool {
+        !matches!(self, Shape::GeneralCone(_) | Shape::Quadric(_) | Shape::Torus(_) | Shape::Mesh(_))
+    }
+}
+
+/// Roots of `a t² + 2 b t + c = 0`, ascending, computed without
+/// cancellation (Numerical Recipes §5.6). `None` when there is no real root
+/// or `a == 0`.
+#[inline]
+pub(crate) fn quadratic(a: f64, b: f64, c: f64) -> Option<(f64, f64)> {
+    if a == 0.0 {
+        return None;
+    }
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    if q == 0.0 {
+        // b == 0 and disc == 0: double root at 0.
+        return Some((0.0, 0.0));
+    }
+    let r0 = q / a;
+    let r1 = c / q;
+    Some(if r0 < r1 { (r0, r1) } else { (r1, r0) })
+}
+
+/// Build sorted segments for a non-convex body from candidate crossings by
+/// classifying the midpoint of each gap. `cands` holds (t, face) pairs.
+pub(crate) fn segments_by_classification(
+    cands: &mut [(f64, u32)],
+    ray: &Ray,
+    inside: impl Fn(DVec3) -> bool,
+    out: &mut Vec<Seg>,
+) {
+    cands.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut cur: Option<Seg> = None;
+    for w in 0..cands.len().saturating_sub(1) {
+        let (ta, fa) = cands[w];
+        let (tb, fb) = cands[w + 1];
+        if tb <= ta || !inside(ray.at(0.5 * (ta + tb))) {
+            continue;
+        }
+        match &mut cur {
+            Some(s) if s.t1 == ta => {
+                s.t1 = tb;
+                s.f1 = fb;
+            }
+            _ => {
+                out.extend(cur.take());
+                cur = Some(Seg { t0: ta, t1: tb, f0: fa, f1: fb });
+            }
+        }
+    }
+    out.extend(cur);
+}
+pub(crate) use polyhedron::convex_hull_planes as polyhedron_hull;

@@ -1,0 +1,164 @@
+use super::Seg;
+use sv_math::{Aabb, DVec3, Ray};
+
+/// A plane `n·x = d`; the inside is `n·x <= d`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    /// Outward unit normal.
+    pub n: DVec3,
+    /// Offset.
+    pub d: f64,
+}
+
+/// A convex polyhedron as an intersection of half-spaces (Haines 1991,
+/// "Fast ray-convex polyhedron intersection"). A single plane is a
+/// half-space (HAF, PLA, XYP…); bounds may then be infinite.
+#[derive(Clone, Debug)]
+pub struct Polyhedron {
+    planes: Vec<Plane>,
+    bounds: Aabb,
+}
+
+impl Polyhedron {
+    /// From planes with unit outward normals, and precomputed bounds.
+    pub fn new(planes: Vec<Plane>, bounds: Aabb) -> Polyhedron {
+        Polyhedron { planes, bounds }
+    }
+
+    /// The planes.
+    pub fn planes(&self) -> &[Plane] {
+        &self.planes
+    }
+
+    #[inline]
+    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        let mut t0 = f64::NEG_INFINITY;
+        let mut t1 = f64::INFINITY;
+        let (mut f0, mut f1) = (0, 0);
+        for (i, pl) in self.planes.iter().enumerate() {
+            let denom = pl.n.dot(ray.dir);
+            let dist = pl.d - pl.n.dot(ray.origin);
+            if denom == 0.0 {
+                if dist < 0.0 {
+                    return;
+                }
+                continue;
+            }
+            let t = dist / denom;
+            if denom < 0.0 {
+                if t > t0 {
+                    t0 = t;
+                    f0 = i as u32;
+                }
+            } else if t < t1 {
+                t1 = t;
+                f1 = i as u32;
+            }
+            if t0 > t1 {
+                return;
+            }
+        }
+        if t0 < t1 {
+            out.push(Seg { t0, t1, f0, f1 });
+        }
+    }
+
+    pub(crate) fn normal(&self, face: u32) -> DVec3 {
+        self.planes[face as usize].n
+    }
+
+    pub(crate) fn contains(&self, p: DVec3) -> bool {
+        self.planes.iter().all(|pl| pl.n.dot(p) < pl.d)
+    }
+
+    pub(crate) fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+}
+
+/// Outcome of [`convex_hull_planes`].
+pub(crate) struct Hull {
+    pub planes: Vec<Plane>,
+    pub volume: f64,
+}
+
+/// Planes of the convex hull of a few points (an ARB's ≤ 8 vertices),
+/// by testing every triple: a triple spans a hull face when all points lie
+/// on one side of its plane. Duplicate planes are merged. `eps` is the
+/// distance below which a point counts as on the plane.
+pub(crate) fn convex_hull_planes(pts: &[DVec3], eps: f64) -> Hull {
+    let mut planes: Vec<Plane> = Vec::new();
+    let n = pts.len();
+    let centroid = pts.iter().copied().sum::<DVec3>() / n as f64;
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let nrm = (pts[j] - pts[i]).cross(pts[k] - pts[i]);
+                let len = nrm.length();
+                if len <= eps * eps {
+                    continue;
+                }
+                let mut nrm = nrm / len;
+                let mut d = nrm.dot(pts[i]);
+                let (mut above, mut below) = (false, false);
+                for p in pts {
+                    let s = nrm.dot(*p) - d;
+                    above |= s > eps;
+                    below |= s < -eps;
+                }
+                if above && below {
+                    continue;
+                }
+                if above || nrm.dot(centroid) > d {
+                    nrm = -nrm;
+                    d = -d;
+                }
+                if !planes.iter().any(|q| q.n.dot(nrm) > 1.0 - 1e-12 && (q.d - d).abs() <= eps) {
+                    planes.push(Plane { n: nrm, d });
+                }
+            }
+        }
+    }
+    // Volume as the sum of pyramids from the centroid over the hull faces;
+    // each face's area comes from the points lying on it.
+    let mut volume = 0.0;
+    for pl in &planes {
+        let on: Vec<DVec3> = pts.iter().copied().filter(|p| (pl.n.dot(*p) - pl.d).abs() <= eps).collect();
+        volume += face_area(&on, pl.n) * (pl.d - pl.n.dot(centroid)) / 3.0;
+    }
+    Hull { planes, volume }
+}
+
+/// Area of the convex polygon spanned by coplanar points with normal `n`.
+fn face_area(pts: &[DVec3], n: DVec3) -> f64 {
+    if pts.len() < 3 {
+        return 0.0;
+    }
+    let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+    let (u, v) = sv_math::orthonormal_basis(n);
+    let mut ang: Vec<(f64, DVec3)> = pts.iter().map(|p| ((p - c).dot(v).atan2((p - c).dot(u)), *p)).collect();
+    ang.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut area = 0.0;
+    for i in 0..ang.len() {
+        let a = ang[i].1 - c;
+        let b = ang[(i + 1) % ang.len()].1 - c;
+        area += a.cross(b).dot(n);
+    }
+    0.5 * area.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_of_unit_cube_has_six_planes_and_unit_volume() {
+        let mut pts = vec![];
+        for i in 0..8 {
+            pts.push(DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64));
+        }
+        let h = convex_hull_planes(&pts, 1e-9);
+        assert_eq!(h.planes.len(), 6);
+        assert!((h.volume - 1.0).abs() < 1e-12);
+    }
+}

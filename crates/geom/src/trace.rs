@@ -1,0 +1,281 @@
+//! Ray queries: the first opaque region hit (front to back, lazily), any
+//! hit (shadows), and the full list of region partitions along a ray.
+
+use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
+use crate::prepare::{PZone, Prepared};
+use crate::shape::Seg;
+use sv_math::{DVec3, Ray};
+
+/// Per-thread working memory. Reused from ray to ray, so tracing allocates
+/// nothing once it has warmed up.
+#[derive(Clone, Debug)]
+pub struct Scratch {
+    ray_id: u32,
+    stamp: Vec<u32>,
+    range: Vec<(u32, u32)>,
+    segs: Vec<Seg>,
+    cur: Vec<Span>,
+    tmp: Vec<Span>,
+    body: Vec<Span>,
+    tagged: Vec<(u32, Span)>,
+}
+
+impl Scratch {
+    /// Working memory for `p`.
+    pub fn new(p: &Prepared) -> Scratch {
+        Scratch {
+            ray_id: 0,
+            stamp: vec![0; p.shapes.len()],
+            range: vec![(0, 0); p.shapes.len()],
+            segs: Vec::with_capacity(64),
+            cur: Vec::with_capacity(16),
+            tmp: Vec::with_capacity(16),
+            body: Vec::with_capacity(16),
+            tagged: Vec::new(),
+        }
+    }
+
+    /// Forget the previous ray's cached body segments.
+    fn new_ray(&mut self) {
+        self.ray_id = self.ray_id.wrapping_add(1);
+        if self.ray_id == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.ray_id = 1;
+        }
+        self.segs.clear();
+    }
+}
+
+/// The first visible surface along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Region entered.
+    pub region: u32,
+    /// Surface crossed: body, face and whether it was subtracted.
+    pub bound: Bound,
+    /// True when the ray started inside the region (no surface crossed).
+    pub inside: bool,
+}
+
+/// A stretch of the ray inside one region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Partition {
+    /// Region.
+    pub region: u32,
+    /// Entry and exit.
+    pub span: Span,
+}
+
+/// One surface crossing along a ray (for `shoot`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Entering (true) or leaving the region.
+    pub entering: bool,
+    /// Region entered or left.
+    pub region: u32,
+    /// Body whose surface is crossed.
+    pub body: u32,
+    /// Face of that body.
+    pub face: u32,
+}
+
+impl Prepared {
+    /// Segments of body `b` along the ray, cached for the current ray.
+    #[inline]
+    fn body_segs(&self, b: u32, ray: &Ray, s: &mut Scratch) -> (usize, usize) {
+        let bi = b as usize;
+        if s.stamp[bi] != s.ray_id {
+            let start = s.segs.len();
+            self.shapes[bi].shoot(ray, &mut s.segs);
+            s.stamp[bi] = s.ray_id;
+            s.range[bi] = (start as u32, s.segs.len() as u32);
+        }
+        let (a, e) = s.range[bi];
+        (a as usize, e as usize)
+    }
+
+    fn load_body(&self, b: u32, ray: &Ray, s: &mut Scratch, flip: bool) {
+        let (a, e) = self.body_segs(b, ray, s);
+        s.body.clear();
+        for g in &s.segs[a..e] {
+            s.body.push(Span {
+                a: Bound { t: g.t0, body: b, face: g.f0, flip },
+                b: Bound { t: g.t1, body: b, face: g.f1, flip },
+            });
+        }
+    }
+
+    /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
+    /// Returns false when there are none.
+    fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
+        let terms = &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
+        let (plus, minus) = terms.split_at(z.plus as usize);
+        s.cur.clear();
+        let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
+        if plus.is_empty() {
+            let inf = Bound { t: f64::INFINITY, body: u32::MAX, face: 0, flip: false };
+            s.cur.push(Span { a: Bound { t: f64::NEG_INFINITY, ..inf }, b: inf });
+        } else {
+            self.load_body(plus[0], ray, s, false);
+            s.cur.extend(s.body.iter().filter(|sp| keep(sp)));
+            for &b in &plus[1..] {
+                if s.cur.is_empty() {
+                    return false;
+                }
+                self.load_body(b, ray, s, false);
+                intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
+                std::mem::swap(&mut s.cur, &mut s.tmp);
+            }
+        }
+        for &b in minus {
+            if s.cur.is_empty() {
+                return false;
+            }
+            let (first, last) = (s.cur[0].a.t, s.cur[s.cur.len() - 1].b.t);
+            match self.body_bounds[b as usize].ray_range(ray) {
+                Some((t0, t1)) if t1 > first && t0 < last => {}
+                _ => continue,
+            }
+            self.load_body(b, ray, s, false);
+            subtract(&s.cur, &s.body, &mut s.tmp, self.tol);
+            std::mem::swap(&mut s.cur, &mut s.tmp);
+        }
+        s.cur.retain(keep);
+        !s.cur.is_empty()
+    }
+
+    /// The first surface of an opaque region met along the ray with
+    /// `tmin < t < tmax`. A ray that starts inside an opaque region hits it
+    /// at `tmin` with `inside` set. Ties between regions sharing a surface
+    /// go to the lower region index, so the answer does not depend on the
+    /// order in which the hierarchy is walked.
+    pub fn first_hit(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> Option<Hit> {
+        s.new_ray();
+        let mut best: Option<Hit> = None;
+        let mut limit = tmax;
+        let mut visit = |zi: u32, limit: &mut f64, s: &mut Scratch| {
+            let z = &self.zones[zi as usize];
+            if !self.zone_spans(z, ray, tmin, *limit, s) {
+                return;
+            }
+            let sp = s.cur[0];
+            let (t, inside) = if sp.a.t > tmin { (sp.a.t, false) } else { (tmin, true) };
+            let better = match &best {
+                None => true,
+                Some(h) => t < h.t || (t == h.t && z.region < h.region),
+            };
+            if better {
+                best = Some(Hit { t, region: z.region, bound: sp.a, inside });
+                // Keep equal-t candidates reachable for the tie rule.
+                *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
+            }
+        };
+        for &zi in &self.unbounded_opaque {
+            visit(zi, &mut limit, s);
+        }
+        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, limit| {
+            for &zi in items {
+                visit(zi, limit, s);
+            }
+            false
+        });
+        best
+    }
+
+    /// True when an opaque region lies on the ray within `(tmin, tmax)`
+    /// (shadow rays: any hit will do).
+    pub fn occluded(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> bool {
+        s.new_ray();
+        for &zi in &self.unbounded_opaque {
+            if self.zone_spans(&self.zones[zi as usize], ray, tmin, tmax, s) {
+                return true;
+            }
+        }
+        let mut limit = tmax;
+        let mut found = false;
+        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, limit| {
+            for &zi in items {
+                if self.zone_spans(&self.zones[zi as usize], ray, tmin, *limit, s) {
+                    found = true;
+                    return true;
+                }
+            }
+            false
+        });
+        found
+    }
+
+    /// Every region's stretches along the ray within `(tmin, tmax)`,
+    /// transparent regions included, sorted by entry then region.
+    pub fn partitions(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch, out: &mut Vec<Partition>) {
+        s.new_ray();
+        out.clear();
+        let mut tagged = std::mem::take(&mut s.tagged);
+        tagged.clear();
+        let mut collect = |zi: u32, s: &mut Scratch| {
+            let z = &self.zones[zi as usize];
+            if self.zone_spans(z, ray, tmin, tmax, s) {
+                tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
+            }
+        };
+        for &zi in &self.unbounded_all {
+            collect(zi, s);
+        }
+        let mut limit = tmax;
+        self.bvh_all.traverse(ray, tmin, &mut limit, |items, _| {
+            for &zi in items {
+                collect(zi, s);
+            }
+            false
+        });
+        // Union the zones of each region.
+        tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
+        let mut i = 0;
+        while i < tagged.len() {
+            let r = tagged[i].0;
+            s.tmp.clear();
+            while i < tagged.len() && tagged[i].0 == r {
+                push_merged(&mut s.tmp, tagged[i].1, self.tol);
+                i += 1;
+            }
+            out.extend(s.tmp.iter().map(|sp| Partition { region: r, span: *sp }));
+        }
+        out.sort_by(|a, b| a.span.a.t.total_cmp(&b.span.a.t).then(a.region.cmp(&b.region)));
+        s.tagged = tagged;
+    }
+
+    /// Every surface crossing along the ray for `t > tmin`, in order: where
+    /// the ray enters and leaves each region, and through which body.
+    pub fn crossings(&self, ray: &Ray, tmin: f64, s: &mut Scratch) -> Vec<Crossing> {
+        let mut parts = Vec::new();
+        self.partitions(ray, tmin, f64::INFINITY, s, &mut parts);
+        let mut out = Vec::new();
+        for p in &parts {
+            for (b, entering) in [(p.span.a, true), (p.span.b, false)] {
+                if b.t.is_finite() && b.t > tmin {
+                    out.push(Crossing { t: b.t, entering, region: p.region, body: b.body, face: b.face });
+                }
+            }
+        }
+        out.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.entering.cmp(&b.entering)).then(a.region.cmp(&b.region)));
+        out
+    }
+
+    /// Outward unit normal of the surface at a hit (reversed for a
+    /// subtracted body; facing the ray when it started inside).
+    pub fn normal(&self, hit: &Hit, ray: &Ray) -> DVec3 {
+        if hit.inside || hit.bound.body == u32::MAX {
+            return -ray.dir;
+        }
+        let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face, ray.at(hit.t));
+        if hit.bound.flip {
+            -n
+        } else {
+            n
+        }
+    }
+}

@@ -1,0 +1,294 @@
+//! Still images.
+//!
+//! Pixel values arrive as linear intensities. By default they are written
+//! linearly (value 1.0 → full scale), which is what the paper's display did
+//! with its intensity levels; `Encoding::Srgb` applies the sRGB transfer
+//! curve for viewing on ordinary screens. PFM always holds the linear
+//! floats unchanged.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// File formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// Portable Network Graphics.
+    Png,
+    /// Netpbm grey (P5) or colour (P6), 8 or 16 bit.
+    Pnm,
+    /// Portable float map (linear 32-bit floats).
+    Pfm,
+}
+
+impl ImageFormat {
+    /// From a file extension (`png`, `pgm`, `ppm`, `pnm`, `pfm`).
+    pub fn from_path(p: &Path) -> Option<ImageFormat> {
+        match p.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "png" => Some(ImageFormat::Png),
+            "pgm" | "ppm" | "pnm" => Some(ImageFormat::Pnm),
+            "pfm" => Some(ImageFormat::Pfm),
+            _ => None,
+        }
+    }
+}
+
+/// Transfer curve for integer formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Encoding {
+    /// Values written as they are (the paper's intensities).
+    #[default]
+    Linear,
+    /// sRGB-encoded.
+    Srgb,
+}
+
+/// How to write.
+#[derive(Clone, Debug)]
+pub struct WriteOptions {
+    /// 16 bits per channel instead of 8 (PNG, PNM).
+    pub sixteen_bit: bool,
+    /// Write one grey channel (the mean of R, G, B).
+    pub grey: bool,
+    /// Add an alpha channel (PNG only).
+    pub alpha: bool,
+    /// Quantise to this many levels first (64 reproduces the paper's CRT).
+    pub levels: Option<u32>,
+    /// Transfer curve.
+    pub encoding: Encoding,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        WriteOptions { sixteen_bit: false, grey: false, alpha: false, levels: None, encoding: Encoding::Linear }
+    }
+}
+
+/// Pixels to write: linear RGB plus optional alpha, row-major.
+#[derive(Clone, Copy, Debug)]
+pub struct Pixels<'a> {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// RGB values.
+    pub rgb: &'a [[f32; 3]],
+    /// Alpha values (same length as `rgb`), if any.
+    pub alpha: Option<&'a [f32]>,
+}
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// File system trouble.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// Destination.
+        path: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// Encoder trouble.
+    #[error("cannot encode {path}: {message}")]
+    Encode {
+        /// Destination.
+        path: PathBuf,
+        /// Cause.
+        message: String,
+    },
+    /// Unsupported request.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Write `bytes` produced by `fill` to `path` atomically: a temporary file
+/// in the same folder, flushed, then renamed over `path`.
+pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), WriteError> {
+    let io = |source| WriteError::Io { path: path.to_owned(), source };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::Builder::new().prefix(".sv-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+    {
+        let mut w = std::io::BufWriter::new(tmp.as_file_mut());
+        fill(&mut w).map_err(io)?;
+        w.flush().map_err(io)?;
+    }
+    tmp.as_file().sync_all().map_err(io)?;
+    tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+fn srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Convert one linear value to a code of `max` (255 or 65535).
+fn code(v: f32, o: &WriteOptions, max: f32) -> u16 {
+    let mut v = v.clamp(0.0, 1.0);
+    if let Some(l) = o.levels {
+        let l = l.max(2) as f32 - 1.0;
+        v = (v * l).round() / l;
+    }
+    if o.encoding == Encoding::Srgb {
+        v = srgb(v);
+    }
+    (v * max).round() as u16
+}
+
+/// The channels to write for each pixel, as linear floats.
+fn channels(px: &Pixels, o: &WriteOptions) -> (usize, Vec<f32>) {
+    let nc = if o.grey { 1 } else { 3 } + usize::from(o.alpha);
+    let mut out = Vec::with_capacity(px.rgb.len() * nc);
+    for (i, c) in px.rgb.iter().enumerate() {
+        if o.grey {
+            out.push((c[0] + c[1] + c[2]) / 3.0);
+        } else {
+            out.extend_from_slice(c);
+        }
+        if o.alpha {
+            out.push(px.alpha.map_or(1.0, |a| a[i]));
+        }
+    }
+    (nc, out)
+}
+
+/// Write a picture in `format`.
+pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptions) -> Result<(), WriteError> {
+    let (nc, vals) = channels(px, o);
+    match format {
+        ImageFormat::Png => {
+            use image::ExtendedColorType as C;
+            let color = match (nc, o.sixteen_bit) {
+                (1, false) => C::L8,
+                (2, false) => C::La8,
+                (3, false) => C::Rgb8,
+                (4, false) => C::Rgba8,
+                (1, true) => C::L16,
+                (2, true) => C::La16,
+                (3, true) => C::Rgb16,
+                _ => C::Rgba16,
+            };
+            let bytes: Vec<u8> = if o.sixteen_bit {
+                // The alpha channel is never quantised or encoded.
+                vals.iter()
+                    .enumerate()
+                    .flat_map(|(i, v)| {
+                        let a = o.alpha && i % nc == nc - 1;
+                        let c = if a { (v.clamp(0.0, 1.0) * 65535.0).round() as u16 } else { code(*v, o, 65535.0) };
+                        c.to_ne_bytes()
+                    })
+                    .collect()
+            } else {
+                vals.iter()
+                    .enumerate()
+                    .map(|(i, v)| {
+                        let a = o.alpha && i % nc == nc - 1;
+                        if a { (v.clamp(0.0, 1.0) * 255.0).round() as u8 } else { code(*v, o, 255.0) as u8 }
+                    })
+                    .collect()
+            };
+            write_atomic(path, |w| {
+                let enc = image::codecs::png::PngEncoder::new(w);
+                image::ImageEncoder::write_image(enc, &bytes, px.width, px.height, color).map_err(std::io::Error::other)
+            })
+        }
+        ImageFormat::Pnm => {
+            if o.alpha {
+                return Err(WriteError::Unsupported("PGM/PPM cannot hold an alpha channel; use PNG".into()));
+            }
+            let max = if o.sixteen_bit { 65535.0 } else { 255.0 };
+            write_atomic(path, |w| {
+                write!(w, "{}\n{} {}\n{}\n", if nc == 1 { "P5" } else { "P6" }, px.width, px.height, max as u32)?;
+                let mut buf = Vec::with_capacity(vals.len() * 2);
+                for v in &vals {
+                    let c = code(*v, o, max);
+                    if o.sixteen_bit {
+                        buf.extend_from_slice(&c.to_be_bytes());
+                    } else {
+                        buf.push(c as u8);
+                    }
+                }
+                w.write_all(&buf)
+            })
+        }
+        ImageFormat::Pfm => {
+            if o.alpha {
+                return Err(WriteError::Unsupported("PFM cannot hold an alpha channel; use PNG".into()));
+            }
+            write_pfm(path, px.width, px.height, nc, &vals)
+        }
+    }
+}
+
+/// Write floats as PFM (`PF` colour or `Pf` grey, little-endian, rows
+/// bottom to top as the format requires).
+pub fn write_pfm(path: &Path, width: u32, height: u32, channels: usize, vals: &[f32]) -> Result<(), WriteError> {
+    write_atomic(path, |w| {
+        write!(w, "{}\n{} {}\n-1.0\n", if channels == 1 { "Pf" } else { "PF" }, width, height)?;
+        let row = width as usize * channels;
+        let mut buf = Vec::with_capacity(vals.len() * 4);
+        for y in (0..height as usize).rev() {
+            for v in &vals[y * row..(y + 1) * row] {
+                buf.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        w.write_all(&buf)
+    })
+}
+
+/// Write a region-id image as 16-bit grey PNG (0 = background, region
+/// index + 1 otherwise): exact values, viewable in any image tool.
+pub fn write_region_png(path: &Path, width: u32, height: u32, ids: &[u32]) -> Result<(), WriteError> {
+    if let Some(m) = ids.iter().max().filter(|m| **m > 65535) {
+        return Err(WriteError::Unsupported(format!("region id {m} does not fit a 16-bit PNG; use a .pfm region image")));
+    }
+    let bytes: Vec<u8> = ids.iter().flat_map(|v| (*v as u16).to_ne_bytes()).collect();
+    write_atomic(path, |w| {
+        let enc = image::codecs::png::PngEncoder::new(w);
+        image::ImageEncoder::write_image(enc, &bytes, width, height, image::ExtendedColorType::L16).map_err(std::io::Error::other)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn png_round_trips_16_bit_grey_and_quantises_to_64_levels() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.png");
+        let rgb = [[0.5f32; 3], [1.0; 3], [0.0; 3], [0.26; 3]];
+        let px = Pixels { width: 2, height: 2, rgb: &rgb, alpha: None };
+        write_image(&p, ImageFormat::Png, &px, &WriteOptions { sixteen_bit: true, grey: true, ..Default::default() }).unwrap();
+        let img = image::open(&p).unwrap().into_luma16();
+        assert_eq!(img.get_pixel(0, 0).0[0], 32768);
+        assert_eq!(img.get_pixel(1, 0).0[0], 65535);
+        write_image(&p, ImageFormat::Png, &px, &WriteOptions { grey: true, levels: Some(64), ..Default::default() }).unwrap();
+        let img = image::open(&p).unwrap().into_luma8();
+        // 0.26 * 63 = 16.38 → level 16 → 16/63 * 255 = 64.76 → 65.
+        assert_eq!(img.get_pixel(1, 1).0[0], 65);
+        // No temporary file is left behind.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn pfm_and_pnm_headers() {
+        let dir = tempfile::tempdir().unwrap();
+        let rgb = [[0.25f32, 0.5, 2.0]];
+        let px = Pixels { width: 1, height: 1, rgb: &rgb, alpha: None };
+        let p = dir.path().join("a.pfm");
+        write_image(&p, ImageFormat::Pfm, &px, &WriteOptions::default()).unwrap();
+        let b = std::fs::read(&p).unwrap();
+        assert!(b.starts_with(b"PF\n1 1\n-1.0\n"));
+        assert_eq!(f32::from_le_bytes(b[b.len() - 4..].try_into().unwrap()), 2.0, "floats are kept unclamped");
+        let p = dir.path().join("a.pgm");
+        write_image(&p, ImageFormat::Pnm, &px, &WriteOptions { grey: true, ..Default::default() }).unwrap();
+        // Grey is the mean of the channels: (0.25 + 0.5 + 2.0) / 3 → 234.
+        assert_eq!(std::fs::read(&p).unwrap(), b"P5\n1 1\n255\n\xea".to_vec());
+    }
+}

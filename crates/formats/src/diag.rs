@@ -31,7 +31,10 @@ pub struct SourceFile {
 impl SourceFile {
     /// A source file.
     pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
-        SourceFile { name: name.into(), text: text.into() }
+        SourceFile {
+            name: name.into(),
+            text: text.into(),
+        }
     }
 
     /// Byte offset of 1-based (`line`, `column`) (columns count characters).
@@ -39,7 +42,11 @@ impl SourceFile {
         let mut off = 0;
         for (i, l) in self.text.split_inclusive('\n').enumerate() {
             if i + 1 == line {
-                let col_off: usize = l.chars().take(column.saturating_sub(1)).map(char::len_utf8).sum();
+                let col_off: usize = l
+                    .chars()
+                    .take(column.saturating_sub(1))
+                    .map(char::len_utf8)
+                    .sum();
                 return off + col_off;
             }
             off += l.len();
@@ -76,7 +83,12 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// An error at a byte span of `source`.
-    pub fn error(source: &SourceFile, offset: usize, len: usize, message: impl Into<String>) -> Diagnostic {
+    pub fn error(
+        source: &SourceFile,
+        offset: usize,
+        len: usize,
+        message: impl Into<String>,
+    ) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
             message: message.into(),
@@ -88,7 +100,13 @@ impl Diagnostic {
     }
 
     /// An error at 1-based line and column (characters), spanning `len` characters.
-    pub fn error_at(source: &SourceFile, line: usize, column: usize, len: usize, message: impl Into<String>) -> Diagnostic {
+    pub fn error_at(
+        source: &SourceFile,
+        line: usize,
+        column: usize,
+        len: usize,
+        message: impl Into<String>,
+    ) -> Diagnostic {
         let start = source.offset(line, column);
         let end = source.offset(line, column + len).max(start);
         Diagnostic::error(source, start, end - start, message)
@@ -127,7 +145,8 @@ impl Diagnostic {
         let text = self.source.text.lines().nth(line - 1).unwrap_or("");
         let width = line.to_string().len();
         let pad = " ".repeat(width);
-        let span_chars = self.source.text[self.offset..(self.offset + self.len).min(self.source.text.len())]
+        let span_chars = self.source.text
+            [self.offset..(self.offset + self.len).min(self.source.text.len())]
             .lines()
             .next()
             .map_or(0, |s| s.chars().count());
@@ -168,7 +187,9 @@ impl miette::Diagnostic for Diagnostic {
     }
 
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        self.hint.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        self.hint
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
     }
 
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {
@@ -176,10 +197,9 @@ impl miette::Diagnostic for Diagnostic {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = miette::LabeledSpan> + '_>> {
-        Some(Box::new(std::iter::once(miette::LabeledSpan::new_primary_with_span(
-            None,
-            (self.offset, self.len),
-        ))))
+        Some(Box::new(std::iter::once(
+            miette::LabeledSpan::new_primary_with_span(None, (self.offset, self.len)),
+        )))
     }
 }
 
@@ -190,7 +210,10 @@ impl miette::SourceCode for Diagnostic {
         lines_before: usize,
         lines_after: usize,
     ) -> Result<Box<dyn miette::SpanContents<'a> + 'a>, miette::MietteError> {
-        let inner = self.source.text.read_span(span, lines_before, lines_after)?;
+        let inner = self
+            .source
+            .text
+            .read_span(span, lines_before, lines_after)?;
         Ok(Box::new(miette::MietteSpanContents::new_named(
             self.source.name.clone(),
             inner.data(),
@@ -227,12 +250,18 @@ impl Diagnostics {
 
     /// Warnings only.
     pub fn warnings(&self) -> impl Iterator<Item = &Diagnostic> {
-        self.items.iter().filter(|d| d.severity == Severity::Warning)
+        self.items
+            .iter()
+            .filter(|d| d.severity == Severity::Warning)
     }
 
     /// All reports as plain text, one after another.
     pub fn render_plain(&self) -> String {
-        self.items.iter().map(Diagnostic::render_plain).collect::<Vec<_>>().join("\n")
+        self.items
+            .iter()
+            .map(Diagnostic::render_plain)
+            .collect::<Vec<_>>()
+            .join("\n")
     }
 }
 
@@ -253,7 +282,10 @@ impl std::error::Error for Diagnostics {}
 
 /// The candidate closest to `word` (Levenshtein distance, ignoring case),
 /// if it is close enough to be a plausible typo.
-pub fn did_you_mean<'a, I: IntoIterator<Item = &'a str>>(word: &str, candidates: I) -> Option<&'a str> {
+pub fn did_you_mean<'a, I: IntoIterator<Item = &'a str>>(
+    word: &str,
+    candidates: I,
+) -> Option<&'a str> {
     let w = word.to_ascii_uppercase();
     let mut best: Option<(usize, &str)> = None;
     for c in candidates {
@@ -287,7 +319,8 @@ mod tests {
     #[test]
     fn plain_rendering_points_at_the_span() {
         let src = SourceFile::new("scene.sv", "# demo\n\nBODY 1 SHP 0 0 0 1\n");
-        let d = Diagnostic::error_at(&src, 3, 8, 3, "unknown body type `SHP`").with_hint("did you mean `SPH`?");
+        let d = Diagnostic::error_at(&src, 3, 8, 3, "unknown body type `SHP`")
+            .with_hint("did you mean `SPH`?");
         assert_eq!(
             d.render_plain(),
             "error: unknown body type `SHP`\n --> scene.sv:3:8\n  |\n3 | BODY 1 SHP 0 0 0 1\n  |        ^^^\n  = hint: did you mean `SPH`?\n"
@@ -298,7 +331,10 @@ mod tests {
     #[test]
     fn suggestions_are_close_matches_only() {
         assert_eq!(did_you_mean("SHP", ["SPH", "RCC", "TOR"]), Some("SPH"));
-        assert_eq!(did_you_mean("helicoptr", ["HELICOPTER", "ROTOR"]), Some("HELICOPTER"));
+        assert_eq!(
+            did_you_mean("helicoptr", ["HELICOPTER", "ROTOR"]),
+            Some("HELICOPTER")
+        );
         assert_eq!(did_you_mean("XYZZY", ["SPH", "RCC"]), None);
     }
 }

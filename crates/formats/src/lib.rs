@@ -8,6 +8,7 @@
 pub mod comgeom;
 pub mod diag;
 pub mod fluka;
+pub mod native;
 
 pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile};
 use std::path::{Path, PathBuf};
@@ -54,7 +55,12 @@ pub enum Format {
 impl Format {
     /// Guess the format from the file name, then from the text.
     pub fn detect(path: &Path, text: &str) -> Format {
-        match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .as_deref()
+        {
             Some("sv") => return Format::Native,
             Some("cg") | Some("g") | Some("comgeom") => return Format::Comgeom,
             Some("inp") | Some("flair") | Some("geo") | Some("geom") => return Format::Fluka,
@@ -65,7 +71,10 @@ impl Format {
             Format::Fluka
         } else if upper.lines().any(|l| {
             let w = l.split_whitespace().next().unwrap_or("");
-            matches!(w, "BODY" | "REGION" | "CAMERA" | "LIGHT" | "INCLUDE" | "SCENE")
+            matches!(
+                w,
+                "BODY" | "REGION" | "CAMERA" | "LIGHT" | "INCLUDE" | "SCENE"
+            )
         }) {
             Format::Native
         } else {
@@ -93,17 +102,24 @@ pub enum LoadError {
 /// Read a scene, deck or FLUKA input, choosing the reader by
 /// [`Format::detect`].
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
-    let text = std::fs::read(path).map_err(|source| LoadError::Io { path: path.to_owned(), source })?;
+    let text = std::fs::read(path).map_err(|source| LoadError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
     let text = String::from_utf8_lossy(&text).into_owned();
     let src = SourceFile::new(path.display().to_string(), text);
     load_source(&src, Format::detect(path, &src.text), opts)
 }
 
 /// Read already loaded text in a given format.
-pub fn load_source(src: &SourceFile, format: Format, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+pub fn load_source(
+    src: &SourceFile,
+    format: Format,
+    opts: &LoadOptions,
+) -> Result<Loaded, LoadError> {
     match format {
         Format::Comgeom => comgeom::read(src, opts).map_err(LoadError::Invalid),
         Format::Fluka => fluka::read(src, opts).map_err(LoadError::Invalid),
-        Format::Native => Err(LoadError::Invalid(Diagnostic::error(src, 0, 0, "the native scene reader is not built yet").into())),
+        Format::Native => native::read(src, opts).map_err(LoadError::Invalid),
     }
 }

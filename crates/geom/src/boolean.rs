@@ -83,7 +83,10 @@ pub fn subtract(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
         while k < y.len() && y[k].a.t < s.b.t {
             let c = &y[k];
             if c.a.t > start.t && c.a.t - start.t > tol {
-                out.push(Span { a: start, b: flipped(c.a) });
+                out.push(Span {
+                    a: start,
+                    b: flipped(c.a),
+                });
             }
             if c.b.t > start.t {
                 start = flipped(c.b);
@@ -135,8 +138,18 @@ mod tests {
 
     fn sp(a: f64, b: f64, body: u32) -> Span {
         Span {
-            a: Bound { t: a, body, face: 0, flip: false },
-            b: Bound { t: b, body, face: 1, flip: false },
+            a: Bound {
+                t: a,
+                body,
+                face: 0,
+                flip: false,
+            },
+            b: Bound {
+                t: b,
+                body,
+                face: 1,
+                flip: false,
+            },
         }
     }
 
@@ -163,7 +176,14 @@ mod tests {
     /// in both orders, and lists of two spans.
     fn cases() -> Vec<Vec<Span>> {
         let mut v = vec![vec![]];
-        for (a, b) in [(0.0, 1.0), (0.5, 1.5), (1.0, 2.0), (-1.0, 3.0), (2.0, 3.0), (0.25, 0.75)] {
+        for (a, b) in [
+            (0.0, 1.0),
+            (0.5, 1.5),
+            (1.0, 2.0),
+            (-1.0, 3.0),
+            (2.0, 3.0),
+            (0.25, 0.75),
+        ] {
             v.push(vec![sp(a, b, 1)]);
         }
         v.push(vec![sp(0.0, 1.0, 1), sp(2.0, 3.0, 1)]);
@@ -173,7 +193,11 @@ mod tests {
 
     #[test]
     fn operators_match_midpoint_classification_in_both_orders() {
-        type Op = (fn(&[Span], &[Span], &mut Vec<Span>, f64), fn(bool, bool) -> bool, &'static str);
+        type Op = (
+            fn(&[Span], &[Span], &mut Vec<Span>, f64),
+            fn(bool, bool) -> bool,
+            &'static str,
+        );
         let ops: [Op; 3] = [
             (intersect, |a, b| a && b, "and"),
             (subtract, |a, b| a && !b, "minus"),

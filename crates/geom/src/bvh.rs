@@ -27,12 +27,19 @@ const MAX_LEAF: usize = 4;
 impl Bvh {
     /// Build over `(item, bounds)` pairs (finite bounds only).
     pub fn build(input: &[(u32, Aabb)]) -> Bvh {
-        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * input.len().max(1)), items: Vec::new() };
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * input.len().max(1)),
+            items: Vec::new(),
+        };
         if input.is_empty() {
             return bvh;
         }
         let mut refs: Vec<(u32, Aabb)> = input.to_vec();
-        bvh.nodes.push(Node { bounds: Aabb::EMPTY, first: 0, count: 0 });
+        bvh.nodes.push(Node {
+            bounds: Aabb::EMPTY,
+            first: 0,
+            count: 0,
+        });
         bvh.split(0, &mut refs, 0);
         bvh.items = refs.iter().map(|r| r.0).collect();
         bvh
@@ -48,9 +55,17 @@ impl Bvh {
         if refs.len() <= MAX_LEAF {
             return leaf(self);
         }
-        let cb = refs.iter().fold(Aabb::EMPTY, |b, r| b.including(r.1.center()));
+        let cb = refs
+            .iter()
+            .fold(Aabb::EMPTY, |b, r| b.including(r.1.center()));
         let ext = cb.size();
-        let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+        let axis = if ext.x >= ext.y && ext.x >= ext.z {
+            0
+        } else if ext.y >= ext.z {
+            1
+        } else {
+            2
+        };
         if ext[axis] <= 0.0 {
             // All centroids coincide: split in the middle of the list.
             return self.children(node, refs, refs.len() / 2, offset);
@@ -90,14 +105,26 @@ impl Bvh {
             return leaf(self);
         }
         let mid = partition(refs, |r| bin_of(r) < best.1);
-        let mid = if mid == 0 || mid == refs.len() { refs.len() / 2 } else { mid };
+        let mid = if mid == 0 || mid == refs.len() {
+            refs.len() / 2
+        } else {
+            mid
+        };
         self.children(node, refs, mid, offset);
     }
 
     fn children(&mut self, node: usize, refs: &mut [(u32, Aabb)], mid: usize, offset: usize) {
         let first = self.nodes.len();
-        self.nodes.push(Node { bounds: Aabb::EMPTY, first: 0, count: 0 });
-        self.nodes.push(Node { bounds: Aabb::EMPTY, first: 0, count: 0 });
+        self.nodes.push(Node {
+            bounds: Aabb::EMPTY,
+            first: 0,
+            count: 0,
+        });
+        self.nodes.push(Node {
+            bounds: Aabb::EMPTY,
+            first: 0,
+            count: 0,
+        });
         self.nodes[node].first = first as u32;
         self.nodes[node].count = 0;
         let (l, r) = refs.split_at_mut(mid);
@@ -109,14 +136,20 @@ impl Bvh {
     /// nearer children first; `visit` may lower `*tmax` to prune the rest.
     /// `visit` returns `true` to stop the traversal.
     #[inline]
-    pub fn traverse(&self, ray: &Ray, tmin: f64, tmax: &mut f64, mut visit: impl FnMut(&[u32], &mut f64) -> bool) {
+    pub fn traverse(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: &mut f64,
+        mut visit: impl FnMut(&[u32], &mut f64) -> bool,
+    ) {
         if self.nodes.is_empty() {
             return;
         }
         let mut stack = [0u32; 64];
         let mut sp = 0;
         let mut node = 0usize;
-        if !hits(&self.nodes[0].bounds, ray, tmin, *tmax).is_some() {
+        if hits(&self.nodes[0].bounds, ray, tmin, *tmax).is_none() {
             return;
         }
         loop {

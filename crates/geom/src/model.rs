@@ -70,7 +70,11 @@ pub enum TransformError {
 impl Body {
     /// A new body.
     pub fn new(name: impl Into<String>, kind: BodyKind, params: Vec<f64>) -> Body {
-        Body { name: name.into(), kind, params }
+        Body {
+            name: name.into(),
+            kind,
+            params,
+        }
     }
 
     /// The point value starting at `i`.
@@ -109,7 +113,9 @@ impl Body {
                 let min = DVec3::new(self.params[0], self.params[2], self.params[4]);
                 let max = DVec3::new(self.params[1], self.params[3], self.params[5]);
                 let d = max - min;
-                let mut p = vec![min.x, min.y, min.z, d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z];
+                let mut p = vec![
+                    min.x, min.y, min.z, d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z,
+                ];
                 b.kind = Box;
                 std::mem::swap(&mut b.params, &mut p);
                 return b.transformed(xf);
@@ -123,11 +129,19 @@ impl Body {
                 b.params = vec![n2.x, n2.y, n2.z, n2.dot(p0)];
             }
             Xyp | Xzp | Yzp if axis_aligned => {
-                let a = match self.kind { Xyp => 2, Xzp => 1, _ => 0 };
+                let a = match self.kind {
+                    Xyp => 2,
+                    Xzp => 1,
+                    _ => 0,
+                };
                 b.params[0] = self.params[0] * s + t[a];
             }
             Xyp | Xzp | Yzp => {
-                let a = match self.kind { Xyp => 2, Xzp => 1, _ => 0 };
+                let a = match self.kind {
+                    Xyp => 2,
+                    Xzp => 1,
+                    _ => 0,
+                };
                 let mut n = DVec3::ZERO;
                 n[a] = 1.0;
                 let p = n * self.params[0];
@@ -266,7 +280,8 @@ mod tests {
     #[test]
     fn turned_cylinder_becomes_an_equivalent_quadric() {
         let xcc = Body::new("c", BodyKind::Ycc, vec![1.0, 2.0, 0.5]); // axis through z=1, x=2
-        let xf = DAffine3::from_rotation_z(0.3) * DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.0));
+        let xf =
+            DAffine3::from_rotation_z(0.3) * DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.0));
         let q = xcc.transformed(&xf).unwrap();
         assert_eq!(q.kind, BodyKind::Qua);
         // A point on the original surface maps to a point on the new one.
@@ -280,7 +295,11 @@ mod tests {
     #[test]
     fn shear_is_refused() {
         let b = Body::new("s", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]);
-        let shear = DAffine3::from_mat3(DMat3::from_cols(DVec3::X, DVec3::new(0.5, 1.0, 0.0), DVec3::Z));
+        let shear = DAffine3::from_mat3(DMat3::from_cols(
+            DVec3::X,
+            DVec3::new(0.5, 1.0, 0.0),
+            DVec3::Z,
+        ));
         assert_eq!(b.transformed(&shear), Err(TransformError::NotSimilarity));
     }
 
@@ -292,7 +311,9 @@ mod tests {
         assert_eq!(bx.kind, BodyKind::Box);
         assert!((bx.vec3(3) - DVec3::new(0.0, 1.0, 0.0)).length() < 1e-12);
         let haf = Body::new("h", BodyKind::Haf, vec![0.0, 0.0, 2.0, 4.0]); // z <= 2
-        let moved = haf.transformed(&DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.0))).unwrap();
+        let moved = haf
+            .transformed(&DAffine3::from_translation(DVec3::new(0.0, 0.0, 1.0)))
+            .unwrap();
         // Now z <= 3: N=(0,0,2), D=6.
         assert!((moved.params[3] / moved.params[2] - 3.0).abs() < 1e-12);
     }

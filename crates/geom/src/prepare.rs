@@ -3,8 +3,10 @@
 
 use crate::bvh::Bvh;
 use crate::model::{quadric_matrix, Body, Geometry, Op};
-use crate::shape::{Cone, Ellipsoid, GeneralCone, Mesh, Plane, Polyhedron, Quadric, Shape, Sphere, Torus};
 use crate::shape::polyhedron_hull as hull;
+use crate::shape::{
+    Cone, Ellipsoid, GeneralCone, Mesh, Plane, Polyhedron, Quadric, Shape, Sphere, Torus,
+};
 use crate::table::BodyKind;
 use std::fmt;
 use sv_math::{orthonormal_basis, Aabb, DMat3, DVec3};
@@ -79,7 +81,10 @@ pub struct Prepared {
 impl Prepared {
     /// Validate and prepare `g`. Warnings are returned beside the result;
     /// errors list every bad body and region at once.
-    pub fn new(g: &Geometry, opts: &PrepareOptions) -> Result<(Prepared, Vec<Warning>), PrepareError> {
+    pub fn new(
+        g: &Geometry,
+        opts: &PrepareOptions,
+    ) -> Result<(Prepared, Vec<Warning>), PrepareError> {
         let mut problems = Vec::new();
         let mut warnings = Vec::new();
         let mut shapes = Vec::with_capacity(g.bodies.len());
@@ -100,7 +105,11 @@ impl Prepared {
         let opaque = match &opts.opaque {
             Some(o) if o.len() == g.regions.len() => o.clone(),
             Some(o) => {
-                problems.push(format!("{} opacity flags given for {} regions", o.len(), g.regions.len()));
+                problems.push(format!(
+                    "{} opacity flags given for {} regions",
+                    o.len(),
+                    g.regions.len()
+                ));
                 vec![true; g.regions.len()]
             }
             None => vec![true; g.regions.len()],
@@ -117,13 +126,27 @@ impl Prepared {
                     continue;
                 }
                 if let Some(t) = z.terms.iter().find(|t| t.body >= g.bodies.len()) {
-                    problems.push(format!("region `{}`: body index {} does not exist", r.name, t.body));
+                    problems.push(format!(
+                        "region `{}`: body index {} does not exist",
+                        r.name, t.body
+                    ));
                     continue;
                 }
-                let mut plus: Vec<u32> = z.terms.iter().filter(|t| t.op == Op::Inside).map(|t| t.body as u32).collect();
-                plus.sort_by(|a, b| body_bounds[*a as usize].area().total_cmp(&body_bounds[*b as usize].area()));
+                let mut plus: Vec<u32> = z
+                    .terms
+                    .iter()
+                    .filter(|t| t.op == Op::Inside)
+                    .map(|t| t.body as u32)
+                    .collect();
+                plus.sort_by(|a, b| {
+                    body_bounds[*a as usize]
+                        .area()
+                        .total_cmp(&body_bounds[*b as usize].area())
+                });
                 plus.dedup();
-                let bounds = plus.iter().fold(Aabb::INFINITE, |acc, &b| acc.intersection(&body_bounds[b as usize]));
+                let bounds = plus.iter().fold(Aabb::INFINITE, |acc, &b| {
+                    acc.intersection(&body_bounds[b as usize])
+                });
                 if bounds.is_empty() {
                     // The + bodies never overlap: the zone is empty.
                     continue;
@@ -132,7 +155,9 @@ impl Prepared {
                 let mut minus: Vec<u32> = z
                     .terms
                     .iter()
-                    .filter(|t| t.op == Op::Outside && !body_bounds[t.body].intersection(&bounds).is_empty())
+                    .filter(|t| {
+                        t.op == Op::Outside && !body_bounds[t.body].intersection(&bounds).is_empty()
+                    })
                     .map(|t| t.body as u32)
                     .collect();
                 minus.dedup();
@@ -150,9 +175,16 @@ impl Prepared {
         if !problems.is_empty() {
             return Err(PrepareError { problems });
         }
-        let finite = body_bounds.iter().filter(|b| b.is_finite()).fold(Aabb::EMPTY, |a, b| a.union(b));
+        let finite = body_bounds
+            .iter()
+            .filter(|b| b.is_finite())
+            .fold(Aabb::EMPTY, |a, b| a.union(b));
         let tol = opts.tolerance.unwrap_or_else(|| {
-            let d = if finite.is_empty() { 1.0 } else { finite.diagonal() };
+            let d = if finite.is_empty() {
+                1.0
+            } else {
+                finite.diagonal()
+            };
             (1e-7 * d).max(1e-12)
         });
         let mut bounded_all = Vec::new();
@@ -236,14 +268,19 @@ impl Prepared {
 
     /// True when point `p` lies inside region `r` (by its zones).
     pub fn region_contains(&self, r: usize, p: DVec3) -> bool {
-        self.zones.iter().filter(|z| z.region as usize == r).any(|z| self.zone_contains(z, p))
+        self.zones
+            .iter()
+            .filter(|z| z.region as usize == r)
+            .any(|z| self.zone_contains(z, p))
     }
 
     pub(crate) fn zone_contains(&self, z: &PZone, p: DVec3) -> bool {
         let t = &self.terms[z.first as usize..];
         let (plus, minus) = t.split_at(z.plus as usize);
         plus.iter().all(|&b| self.shapes[b as usize].contains(p))
-            && !minus[..z.minus as usize].iter().any(|&b| self.shapes[b as usize].contains(p))
+            && !minus[..z.minus as usize]
+                .iter()
+                .any(|&b| self.shapes[b as usize].contains(p))
     }
 }
 
@@ -270,9 +307,21 @@ pub fn arb_points(b: &Body) -> Vec<DVec3> {
 }
 
 /// The six faces of an ARB8 by vertex numbers (1-based), as BRL-CAD names them.
-const ARB_FACES: [[usize; 4]; 6] = [[1, 2, 3, 4], [5, 6, 7, 8], [1, 4, 8, 5], [2, 3, 7, 6], [1, 2, 6, 5], [4, 3, 7, 8]];
+const ARB_FACES: [[usize; 4]; 6] = [
+    [1, 2, 3, 4],
+    [5, 6, 7, 8],
+    [1, 4, 8, 5],
+    [2, 3, 7, 6],
+    [1, 2, 6, 5],
+    [4, 3, 7, 8],
+];
 
-fn polyhedron_from_points(b: &Body, pts: &[DVec3], warnings: &mut Vec<Warning>, check_faces: bool) -> Result<(Shape, Aabb), String> {
+fn polyhedron_from_points(
+    b: &Body,
+    pts: &[DVec3],
+    warnings: &mut Vec<Warning>,
+    check_faces: bool,
+) -> Result<(Shape, Aabb), String> {
     let bounds = Aabb::from_points(pts.iter().copied());
     let size = bounds.diagonal();
     if size == 0.0 {
@@ -331,7 +380,10 @@ fn half_space(n: DVec3, d: f64) -> Result<(Shape, Aabb), String> {
             }
         }
     }
-    Ok((Shape::Polyhedron(Polyhedron::new(vec![Plane { n, d }], bounds)), bounds))
+    Ok((
+        Shape::Polyhedron(Polyhedron::new(vec![Plane { n, d }], bounds)),
+        bounds,
+    ))
 }
 
 fn nonzero(v: DVec3, what: &str) -> Result<DVec3, String> {
@@ -360,7 +412,7 @@ fn independent(a: DVec3, b: DVec3, c: DVec3, what: &str) -> Result<(), String> {
 }
 
 fn perpendicular(a: DVec3, b: DVec3, what: &str) -> Result<(), String> {
-    if a.dot(b).abs() > 1e-6 * a.length() * b.length() {
+    if a.dot(b).abs() > 1e-5 * a.length() * b.length() {
         Err(format!("{what} are not perpendicular"))
     } else {
         Ok(())
@@ -378,10 +430,16 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
         }
         let (nc, np) = (b.params[0], b.params[1]);
         if nc.fract() != 0.0 || np.fract() != 0.0 || nc < 2.0 || np < 3.0 {
-            return Err(format!("needs at least 2 curves of at least 3 points (has {nc} curves of {np})"));
+            return Err(format!(
+                "needs at least 2 curves of at least 3 points (has {nc} curves of {np})"
+            ));
         }
         if b.params.len() != 2 + 3 * (nc as usize) * (np as usize) {
-            return Err(format!("{nc} curves of {np} points need {} values, found {}", 3.0 * nc * np, b.params.len() - 2));
+            return Err(format!(
+                "{nc} curves of {np} points need {} values, found {}",
+                3.0 * nc * np,
+                b.params.len() - 2
+            ));
         }
     } else if b.params.len() != expect {
         return Err(format!("takes {expect} values, found {}", b.params.len()));
@@ -401,7 +459,11 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             Shape::Cone(Cone::new(v(0), u * r, w * r, h, 1.0))
         }
         Rec => {
-            let (h, a, bb) = (nonzero(v(3), "height vector")?, nonzero(v(6), "semi-axis A")?, nonzero(v(9), "semi-axis B")?);
+            let (h, a, bb) = (
+                nonzero(v(3), "height vector")?,
+                nonzero(v(6), "semi-axis A")?,
+                nonzero(v(9), "semi-axis B")?,
+            );
             independent(a, bb, h, "A, B and H")?;
             Shape::Cone(Cone::new(v(0), a, bb, h, 1.0))
         }
@@ -409,7 +471,9 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             let h = nonzero(v(3), "height vector")?;
             let (r1, r2) = (s(6), s(7));
             if r1 < 0.0 || r2 < 0.0 || (r1 == 0.0 && r2 == 0.0) {
-                return Err(format!("radii must be non-negative and not both zero (are {r1} and {r2})"));
+                return Err(format!(
+                    "radii must be non-negative and not both zero (are {r1} and {r2})"
+                ));
             }
             let (u, w) = orthonormal_basis(h.normalize());
             if r1 > 0.0 {
@@ -420,17 +484,27 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             }
         }
         Tec => {
-            let (h, a, bb) = (nonzero(v(3), "height vector")?, nonzero(v(6), "semi-axis A")?, nonzero(v(9), "semi-axis B")?);
+            let (h, a, bb) = (
+                nonzero(v(3), "height vector")?,
+                nonzero(v(6), "semi-axis A")?,
+                nonzero(v(9), "semi-axis B")?,
+            );
             independent(a, bb, h, "A, B and H")?;
             let p = positive(s(12), "ratio P")?;
             Shape::Cone(Cone::new(v(0), a, bb, h, 1.0 / p))
         }
         Tgc => {
-            let (h, a, bb) = (nonzero(v(3), "height vector")?, nonzero(v(6), "semi-axis A")?, nonzero(v(9), "semi-axis B")?);
+            let (h, a, bb) = (
+                nonzero(v(3), "height vector")?,
+                nonzero(v(6), "semi-axis A")?,
+                nonzero(v(9), "semi-axis B")?,
+            );
             independent(a, bb, h, "A, B and H")?;
             let (c, d) = (s(12), s(13));
             if c < 0.0 || d < 0.0 {
-                return Err(format!("top semi-axes must be non-negative (are {c} and {d})"));
+                return Err(format!(
+                    "top semi-axes must be non-negative (are {c} and {d})"
+                ));
             }
             let (ra, rb) = (c / a.length(), d / bb.length());
             if (ra - rb).abs() <= 1e-12 * ra.max(rb) {
@@ -443,7 +517,9 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             let (f1, f2, l) = (v(0), v(3), s(6));
             let fd = (f2 - f1).length();
             if l <= fd {
-                return Err(format!("major axis length {l} must exceed the distance between the foci ({fd})"));
+                return Err(format!(
+                    "major axis length {l} must exceed the distance between the foci ({fd})"
+                ));
             }
             let c = (f1 + f2) * 0.5;
             if fd == 0.0 {
@@ -460,7 +536,11 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             ellipsoid_of_revolution(v(0), a, positive(s(6), "radius of revolution")?)
         }
         Ellg => {
-            let (a, bb, c) = (nonzero(v(3), "semi-axis A")?, nonzero(v(6), "semi-axis B")?, nonzero(v(9), "semi-axis C")?);
+            let (a, bb, c) = (
+                nonzero(v(3), "semi-axis A")?,
+                nonzero(v(6), "semi-axis B")?,
+                nonzero(v(9), "semi-axis C")?,
+            );
             independent(a, bb, c, "semi-axes A, B and C")?;
             Shape::Ellipsoid(Ellipsoid::new(v(0), DMat3::from_cols(a, bb, c)))
         }
@@ -469,7 +549,10 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             let max = DVec3::new(s(1), s(3), s(5));
             for (a, n) in ["x", "y", "z"].iter().enumerate() {
                 if min[a] >= max[a] {
-                    return Err(format!("{n}min ({}) must be less than {n}max ({})", min[a], max[a]));
+                    return Err(format!(
+                        "{n}min ({}) must be less than {n}max ({})",
+                        min[a], max[a]
+                    ));
                 }
             }
             let planes = (0..3)
@@ -483,18 +566,28 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             return Ok((Shape::Polyhedron(Polyhedron::new(planes, bb)), bb));
         }
         Box => {
-            let (a, bb, c) = (nonzero(v(3), "edge A")?, nonzero(v(6), "edge B")?, nonzero(v(9), "edge C")?);
+            let (a, bb, c) = (
+                nonzero(v(3), "edge A")?,
+                nonzero(v(6), "edge B")?,
+                nonzero(v(9), "edge C")?,
+            );
             perpendicular(a, bb, "edges A and B")?;
             perpendicular(a, c, "edges A and C")?;
             perpendicular(bb, c, "edges B and C")?;
             let o = v(0);
             let pts: Vec<DVec3> = (0..8)
-                .map(|i| o + a * (i & 1) as f64 + bb * ((i >> 1) & 1) as f64 + c * ((i >> 2) & 1) as f64)
+                .map(|i| {
+                    o + a * (i & 1) as f64 + bb * ((i >> 1) & 1) as f64 + c * ((i >> 2) & 1) as f64
+                })
                 .collect();
             return polyhedron_from_points(b, &pts, warnings, false);
         }
         Raw => {
-            let (a, bb, c) = (nonzero(v(3), "leg A")?, nonzero(v(6), "leg B")?, nonzero(v(9), "sweep C")?);
+            let (a, bb, c) = (
+                nonzero(v(3), "leg A")?,
+                nonzero(v(6), "leg B")?,
+                nonzero(v(9), "sweep C")?,
+            );
             independent(a, bb, c, "A, B and C")?;
             let o = v(0);
             let pts = [o, o + a, o + bb, o + c, o + a + c, o + bb + c];
@@ -513,13 +606,20 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
                 while x > 0 {
                     let d = (x % 10) as usize;
                     if d == 0 || d > 8 {
-                        return Err(format!("face code {code} names vertex {d}, which does not exist"));
+                        return Err(format!(
+                            "face code {code} names vertex {d}, which does not exist"
+                        ));
                     }
                     used[d - 1] = true;
                     x /= 10;
                 }
             }
-            let pts: Vec<DVec3> = pts.iter().zip(used).filter(|(_, u)| *u).map(|(p, _)| *p).collect();
+            let pts: Vec<DVec3> = pts
+                .iter()
+                .zip(used)
+                .filter(|(_, u)| *u)
+                .map(|(p, _)| *p)
+                .collect();
             if pts.len() < 4 {
                 return Err("face codes use fewer than 4 vertices".into());
             }
@@ -527,9 +627,14 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
         }
         Tor => {
             let n = nonzero(v(3), "normal")?;
-            let (r1, r2) = (positive(s(6), "major radius")?, positive(s(7), "minor radius")?);
+            let (r1, r2) = (
+                positive(s(6), "major radius")?,
+                positive(s(7), "minor radius")?,
+            );
             if r2 >= r1 {
-                return Err(format!("minor radius {r2} must be smaller than major radius {r1}"));
+                return Err(format!(
+                    "minor radius {r2} must be smaller than major radius {r1}"
+                ));
             }
             let t = Torus::new(v(0), n, r1, r2);
             let bb = t.bounds();
@@ -571,7 +676,12 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             let mut tris = Vec::with_capacity(2 * nc * np + 2 * np);
             for i in 0..nc - 1 {
                 for j in 0..np {
-                    let (a, bq, c, d) = (curve(i, j), curve(i, j + 1), curve(i + 1, j + 1), curve(i + 1, j));
+                    let (a, bq, c, d) = (
+                        curve(i, j),
+                        curve(i, j + 1),
+                        curve(i + 1, j + 1),
+                        curve(i + 1, j),
+                    );
                     tris.push([a, bq, c]);
                     tris.push([a, c, d]);
                 }

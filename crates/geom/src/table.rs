@@ -165,14 +165,20 @@ impl BodyKind {
     pub fn from_name(s: &str) -> Option<BodyKind> {
         BODY_TYPES
             .iter()
-            .find(|t| t.name.eq_ignore_ascii_case(s) || t.aliases.iter().any(|a| a.eq_ignore_ascii_case(s)))
+            .find(|t| {
+                t.name.eq_ignore_ascii_case(s)
+                    || t.aliases.iter().any(|a| a.eq_ignore_ascii_case(s))
+            })
             .map(|t| t.kind)
     }
 
     /// True for bodies that extend to infinity.
     pub fn is_infinite(self) -> bool {
         use BodyKind::*;
-        matches!(self, Haf | Xyp | Xzp | Yzp | Pla | Xcc | Ycc | Zcc | Xec | Yec | Zec | Qua)
+        matches!(
+            self,
+            Haf | Xyp | Xzp | Yzp | Pla | Xcc | Ycc | Zcc | Xec | Yec | Zec | Qua
+        )
     }
 }
 
@@ -195,7 +201,10 @@ mod tests {
                 assert_eq!(BodyKind::from_name(a), Some(t.kind));
             }
         }
-        let mut names: Vec<_> = BODY_TYPES.iter().flat_map(|t| std::iter::once(t.name).chain(t.aliases.iter().copied())).collect();
+        let mut names: Vec<_> = BODY_TYPES
+            .iter()
+            .flat_map(|t| std::iter::once(t.name).chain(t.aliases.iter().copied()))
+            .collect();
         names.sort();
         let n = names.len();
         names.dedup();
@@ -205,12 +214,37 @@ mod tests {
     #[test]
     fn value_counts_match_the_card_layouts() {
         let expect = [
-            ("SPH", 4), ("RCC", 7), ("REC", 12), ("TRC", 8), ("TEC", 13), ("ELL", 7), ("ELL1", 7), ("ELLG", 12),
-            ("RPP", 6), ("BOX", 12), ("RAW", 12), ("ARB4", 12), ("ARB5", 15), ("ARB6", 18), ("ARB7", 21), ("ARB8", 24),
-            ("TGC", 14), ("TOR", 8), ("HAF", 4), ("PLA", 6), ("XCC", 3), ("XEC", 4), ("QUA", 10), ("ARBF", 30),
+            ("SPH", 4),
+            ("RCC", 7),
+            ("REC", 12),
+            ("TRC", 8),
+            ("TEC", 13),
+            ("ELL", 7),
+            ("ELL1", 7),
+            ("ELLG", 12),
+            ("RPP", 6),
+            ("BOX", 12),
+            ("RAW", 12),
+            ("ARB4", 12),
+            ("ARB5", 15),
+            ("ARB6", 18),
+            ("ARB7", 21),
+            ("ARB8", 24),
+            ("TGC", 14),
+            ("TOR", 8),
+            ("HAF", 4),
+            ("PLA", 6),
+            ("XCC", 3),
+            ("XEC", 4),
+            ("QUA", 10),
+            ("ARBF", 30),
         ];
         for (name, n) in expect {
-            assert_eq!(BodyKind::from_name(name).unwrap().info().value_count(), n, "{name}");
+            assert_eq!(
+                BodyKind::from_name(name).unwrap().info().value_count(),
+                n,
+                "{name}"
+            );
         }
     }
 }

@@ -103,8 +103,18 @@ impl Prepared {
         s.body.clear();
         for g in &s.segs[a..e] {
             s.body.push(Span {
-                a: Bound { t: g.t0, body: b, face: g.f0, flip },
-                b: Bound { t: g.t1, body: b, face: g.f1, flip },
+                a: Bound {
+                    t: g.t0,
+                    body: b,
+                    face: g.f0,
+                    flip,
+                },
+                b: Bound {
+                    t: g.t1,
+                    body: b,
+                    face: g.f1,
+                    flip,
+                },
             });
         }
     }
@@ -112,13 +122,25 @@ impl Prepared {
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
     /// Returns false when there are none.
     fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
-        let terms = &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
+        let terms =
+            &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
         let (plus, minus) = terms.split_at(z.plus as usize);
         s.cur.clear();
         let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         if plus.is_empty() {
-            let inf = Bound { t: f64::INFINITY, body: u32::MAX, face: 0, flip: false };
-            s.cur.push(Span { a: Bound { t: f64::NEG_INFINITY, ..inf }, b: inf });
+            let inf = Bound {
+                t: f64::INFINITY,
+                body: u32::MAX,
+                face: 0,
+                flip: false,
+            };
+            s.cur.push(Span {
+                a: Bound {
+                    t: f64::NEG_INFINITY,
+                    ..inf
+                },
+                b: inf,
+            });
         } else {
             self.load_body(plus[0], ray, s, false);
             s.cur.extend(s.body.iter().filter(|sp| keep(sp)));
@@ -163,13 +185,22 @@ impl Prepared {
                 return;
             }
             let sp = s.cur[0];
-            let (t, inside) = if sp.a.t > tmin { (sp.a.t, false) } else { (tmin, true) };
+            let (t, inside) = if sp.a.t > tmin {
+                (sp.a.t, false)
+            } else {
+                (tmin, true)
+            };
             let better = match &best {
                 None => true,
                 Some(h) => t < h.t || (t == h.t && z.region < h.region),
             };
             if better {
-                best = Some(Hit { t, region: z.region, bound: sp.a, inside });
+                best = Some(Hit {
+                    t,
+                    region: z.region,
+                    bound: sp.a,
+                    inside,
+                });
                 // Keep equal-t candidates reachable for the tie rule.
                 *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
             }
@@ -177,12 +208,13 @@ impl Prepared {
         for &zi in &self.unbounded_opaque {
             visit(zi, &mut limit, s);
         }
-        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, limit| {
-            for &zi in items {
-                visit(zi, limit, s);
-            }
-            false
-        });
+        self.bvh_opaque
+            .traverse(ray, tmin, &mut limit, |items, limit| {
+                for &zi in items {
+                    visit(zi, limit, s);
+                }
+                false
+            });
         best
     }
 
@@ -197,21 +229,29 @@ impl Prepared {
         }
         let mut limit = tmax;
         let mut found = false;
-        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, limit| {
-            for &zi in items {
-                if self.zone_spans(&self.zones[zi as usize], ray, tmin, *limit, s) {
-                    found = true;
-                    return true;
+        self.bvh_opaque
+            .traverse(ray, tmin, &mut limit, |items, limit| {
+                for &zi in items {
+                    if self.zone_spans(&self.zones[zi as usize], ray, tmin, *limit, s) {
+                        found = true;
+                        return true;
+                    }
                 }
-            }
-            false
-        });
+                false
+            });
         found
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,
     /// transparent regions included, sorted by entry then region.
-    pub fn partitions(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch, out: &mut Vec<Partition>) {
+    pub fn partitions(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<Partition>,
+    ) {
         s.new_ray();
         out.clear();
         let mut tagged = std::mem::take(&mut s.tagged);
@@ -242,9 +282,18 @@ impl Prepared {
                 push_merged(&mut s.tmp, tagged[i].1, self.tol);
                 i += 1;
             }
-            out.extend(s.tmp.iter().map(|sp| Partition { region: r, span: *sp }));
+            out.extend(s.tmp.iter().map(|sp| Partition {
+                region: r,
+                span: *sp,
+            }));
         }
-        out.sort_by(|a, b| a.span.a.t.total_cmp(&b.span.a.t).then(a.region.cmp(&b.region)));
+        out.sort_by(|a, b| {
+            a.span
+                .a
+                .t
+                .total_cmp(&b.span.a.t)
+                .then(a.region.cmp(&b.region))
+        });
         s.tagged = tagged;
     }
 
@@ -257,11 +306,21 @@ impl Prepared {
         for p in &parts {
             for (b, entering) in [(p.span.a, true), (p.span.b, false)] {
                 if b.t.is_finite() && b.t > tmin {
-                    out.push(Crossing { t: b.t, entering, region: p.region, body: b.body, face: b.face });
+                    out.push(Crossing {
+                        t: b.t,
+                        entering,
+                        region: p.region,
+                        body: b.body,
+                        face: b.face,
+                    });
                 }
             }
         }
-        out.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.entering.cmp(&b.entering)).then(a.region.cmp(&b.region)));
+        out.sort_by(|a, b| {
+            a.t.total_cmp(&b.t)
+                .then(a.entering.cmp(&b.entering))
+                .then(a.region.cmp(&b.region))
+        });
         out
     }
 
@@ -277,5 +336,65 @@ impl Prepared {
         } else {
             n
         }
+    }
+}
+
+/// One body-surface crossing along a ray, with the regions the ray is in
+/// just after it (for `shoot`, the paper's Figure 3 walk-through).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Body crossed.
+    pub body: u32,
+    /// Face of the body.
+    pub face: u32,
+    /// True when the ray enters the body here.
+    pub entering: bool,
+    /// Regions containing the ray just past this point (empty: outside
+    /// the geometry; more than one: an overlap).
+    pub regions_after: Vec<u32>,
+}
+
+impl Prepared {
+    /// Every body surface the ray crosses for `t > tmin`, in order, and the
+    /// regions it is in after each crossing.
+    pub fn walk(&self, ray: &Ray, tmin: f64, s: &mut Scratch) -> Vec<Step> {
+        let mut steps = Vec::new();
+        let mut segs = Vec::new();
+        for (i, sh) in self.shapes.iter().enumerate() {
+            if self.body_bounds[i].ray_range(ray).is_none() {
+                continue;
+            }
+            segs.clear();
+            sh.shoot(ray, &mut segs);
+            for g in &segs {
+                for (t, face, entering) in [(g.t0, g.f0, true), (g.t1, g.f1, false)] {
+                    if t.is_finite() && t > tmin {
+                        steps.push(Step {
+                            t,
+                            body: i as u32,
+                            face,
+                            entering,
+                            regions_after: Vec::new(),
+                        });
+                    }
+                }
+            }
+        }
+        steps.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.body.cmp(&b.body)));
+        let mut parts = Vec::new();
+        self.partitions(ray, tmin, f64::INFINITY, s, &mut parts);
+        for i in 0..steps.len() {
+            let t = steps[i].t;
+            let next = steps.get(i + 1).map_or(t + 1.0, |n| n.t);
+            let probe = if next > t { 0.5 * (t + next) } else { t };
+            steps[i].regions_after = parts
+                .iter()
+                .filter(|p| p.span.a.t <= probe && probe < p.span.b.t)
+                .map(|p| p.region)
+                .collect();
+        }
+        steps
     }
 }

@@ -45,17 +45,26 @@ impl Aabb {
 
     /// This box grown to hold `p`.
     pub fn including(&self, p: DVec3) -> Aabb {
-        Aabb { min: self.min.min(p), max: self.max.max(p) }
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
     }
 
     /// The smallest box holding both.
     pub fn union(&self, o: &Aabb) -> Aabb {
-        Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
     }
 
     /// The common part of both (possibly empty).
     pub fn intersection(&self, o: &Aabb) -> Aabb {
-        Aabb { min: self.min.max(o.min), max: self.max.min(o.max) }
+        Aabb {
+            min: self.min.max(o.min),
+            max: self.max.min(o.max),
+        }
     }
 
     /// Centre point.
@@ -89,7 +98,10 @@ impl Aabb {
 
     /// This box widened by `d` on every side.
     pub fn padded(&self, d: f64) -> Aabb {
-        Aabb { min: self.min - DVec3::splat(d), max: self.max + DVec3::splat(d) }
+        Aabb {
+            min: self.min - DVec3::splat(d),
+            max: self.max + DVec3::splat(d),
+        }
     }
 
     /// The parameter range `(t_enter, t_exit)` over which the line of the ray

@@ -27,7 +27,12 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal_for_awkward_normals() {
-        for n in [DVec3::Z, -DVec3::Z, DVec3::X, DVec3::new(1.0, 2.0, -3.0).normalize()] {
+        for n in [
+            DVec3::Z,
+            -DVec3::Z,
+            DVec3::X,
+            DVec3::new(1.0, 2.0, -3.0).normalize(),
+        ] {
             let (u, v) = orthonormal_basis(n);
             assert!((u.length() - 1.0).abs() < 1e-12);
             assert!((v.length() - 1.0).abs() < 1e-12);

@@ -16,8 +16,8 @@
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3, Vec3A};
 
 mod aabb;
-mod ray;
 mod frame;
+mod ray;
 
 pub use aabb::Aabb;
 pub use frame::{orthonormal_basis, rotation_about_axis};

@@ -18,7 +18,11 @@ impl Ray {
     /// ray whose direction is NaN; callers validate user directions first.
     pub fn new(origin: DVec3, dir: DVec3) -> Ray {
         let dir = dir.normalize();
-        Ray { origin, dir, inv_dir: dir.recip() }
+        Ray {
+            origin,
+            dir,
+            inv_dir: dir.recip(),
+        }
     }
 
     /// The point at parameter `t`.

@@ -59,7 +59,13 @@ pub struct WriteOptions {
 
 impl Default for WriteOptions {
     fn default() -> Self {
-        WriteOptions { sixteen_bit: false, grey: false, alpha: false, levels: None, encoding: Encoding::Linear }
+        WriteOptions {
+            sixteen_bit: false,
+            grey: false,
+            alpha: false,
+            levels: None,
+            encoding: Encoding::Linear,
+        }
     }
 }
 
@@ -102,13 +108,23 @@ pub enum WriteError {
 
 /// Write `bytes` produced by `fill` to `path` atomically: a temporary file
 /// in the same folder, flushed, then renamed over `path`.
-pub fn write_atomic(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), WriteError> {
-    let io = |source| WriteError::Io { path: path.to_owned(), source };
+pub fn write_atomic(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), WriteError> {
+    let io = |source| WriteError::Io {
+        path: path.to_owned(),
+        source,
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::Builder::new().prefix(".sv-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".sv-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(io)?;
     {
         let mut w = std::io::BufWriter::new(tmp.as_file_mut());
         fill(&mut w).map_err(io)?;
@@ -158,7 +174,12 @@ fn channels(px: &Pixels, o: &WriteOptions) -> (usize, Vec<f32>) {
 }
 
 /// Write a picture in `format`.
-pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptions) -> Result<(), WriteError> {
+pub fn write_image(
+    path: &Path,
+    format: ImageFormat,
+    px: &Pixels,
+    o: &WriteOptions,
+) -> Result<(), WriteError> {
     let (nc, vals) = channels(px, o);
     match format {
         ImageFormat::Png => {
@@ -179,7 +200,11 @@ pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptio
                     .enumerate()
                     .flat_map(|(i, v)| {
                         let a = o.alpha && i % nc == nc - 1;
-                        let c = if a { (v.clamp(0.0, 1.0) * 65535.0).round() as u16 } else { code(*v, o, 65535.0) };
+                        let c = if a {
+                            (v.clamp(0.0, 1.0) * 65535.0).round() as u16
+                        } else {
+                            code(*v, o, 65535.0)
+                        };
                         c.to_ne_bytes()
                     })
                     .collect()
@@ -188,22 +213,36 @@ pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptio
                     .enumerate()
                     .map(|(i, v)| {
                         let a = o.alpha && i % nc == nc - 1;
-                        if a { (v.clamp(0.0, 1.0) * 255.0).round() as u8 } else { code(*v, o, 255.0) as u8 }
+                        if a {
+                            (v.clamp(0.0, 1.0) * 255.0).round() as u8
+                        } else {
+                            code(*v, o, 255.0) as u8
+                        }
                     })
                     .collect()
             };
             write_atomic(path, |w| {
                 let enc = image::codecs::png::PngEncoder::new(w);
-                image::ImageEncoder::write_image(enc, &bytes, px.width, px.height, color).map_err(std::io::Error::other)
+                image::ImageEncoder::write_image(enc, &bytes, px.width, px.height, color)
+                    .map_err(std::io::Error::other)
             })
         }
         ImageFormat::Pnm => {
             if o.alpha {
-                return Err(WriteError::Unsupported("PGM/PPM cannot hold an alpha channel; use PNG".into()));
+                return Err(WriteError::Unsupported(
+                    "PGM/PPM cannot hold an alpha channel; use PNG".into(),
+                ));
             }
             let max = if o.sixteen_bit { 65535.0 } else { 255.0 };
             write_atomic(path, |w| {
-                write!(w, "{}\n{} {}\n{}\n", if nc == 1 { "P5" } else { "P6" }, px.width, px.height, max as u32)?;
+                write!(
+                    w,
+                    "{}\n{} {}\n{}\n",
+                    if nc == 1 { "P5" } else { "P6" },
+                    px.width,
+                    px.height,
+                    max as u32
+                )?;
                 let mut buf = Vec::with_capacity(vals.len() * 2);
                 for v in &vals {
                     let c = code(*v, o, max);
@@ -218,7 +257,9 @@ pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptio
         }
         ImageFormat::Pfm => {
             if o.alpha {
-                return Err(WriteError::Unsupported("PFM cannot hold an alpha channel; use PNG".into()));
+                return Err(WriteError::Unsupported(
+                    "PFM cannot hold an alpha channel; use PNG".into(),
+                ));
             }
             write_pfm(path, px.width, px.height, nc, &vals)
         }
@@ -227,9 +268,21 @@ pub fn write_image(path: &Path, format: ImageFormat, px: &Pixels, o: &WriteOptio
 
 /// Write floats as PFM (`PF` colour or `Pf` grey, little-endian, rows
 /// bottom to top as the format requires).
-pub fn write_pfm(path: &Path, width: u32, height: u32, channels: usize, vals: &[f32]) -> Result<(), WriteError> {
+pub fn write_pfm(
+    path: &Path,
+    width: u32,
+    height: u32,
+    channels: usize,
+    vals: &[f32],
+) -> Result<(), WriteError> {
     write_atomic(path, |w| {
-        write!(w, "{}\n{} {}\n-1.0\n", if channels == 1 { "Pf" } else { "PF" }, width, height)?;
+        write!(
+            w,
+            "{}\n{} {}\n-1.0\n",
+            if channels == 1 { "Pf" } else { "PF" },
+            width,
+            height
+        )?;
         let row = width as usize * channels;
         let mut buf = Vec::with_capacity(vals.len() * 4);
         for y in (0..height as usize).rev() {
@@ -243,14 +296,22 @@ pub fn write_pfm(path: &Path, width: u32, height: u32, channels: usize, vals: &[
 
 /// Write a region-id image as 16-bit grey PNG (0 = background, region
 /// index + 1 otherwise): exact values, viewable in any image tool.
-pub fn write_region_png(path: &Path, width: u32, height: u32, ids: &[u32]) -> Result<(), WriteError> {
+pub fn write_region_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    ids: &[u32],
+) -> Result<(), WriteError> {
     if let Some(m) = ids.iter().max().filter(|m| **m > 65535) {
-        return Err(WriteError::Unsupported(format!("region id {m} does not fit a 16-bit PNG; use a .pfm region image")));
+        return Err(WriteError::Unsupported(format!(
+            "region id {m} does not fit a 16-bit PNG; use a .pfm region image"
+        )));
     }
     let bytes: Vec<u8> = ids.iter().flat_map(|v| (*v as u16).to_ne_bytes()).collect();
     write_atomic(path, |w| {
         let enc = image::codecs::png::PngEncoder::new(w);
-        image::ImageEncoder::write_image(enc, &bytes, width, height, image::ExtendedColorType::L16).map_err(std::io::Error::other)
+        image::ImageEncoder::write_image(enc, &bytes, width, height, image::ExtendedColorType::L16)
+            .map_err(std::io::Error::other)
     })
 }
 
@@ -263,12 +324,37 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("a.png");
         let rgb = [[0.5f32; 3], [1.0; 3], [0.0; 3], [0.26; 3]];
-        let px = Pixels { width: 2, height: 2, rgb: &rgb, alpha: None };
-        write_image(&p, ImageFormat::Png, &px, &WriteOptions { sixteen_bit: true, grey: true, ..Default::default() }).unwrap();
+        let px = Pixels {
+            width: 2,
+            height: 2,
+            rgb: &rgb,
+            alpha: None,
+        };
+        write_image(
+            &p,
+            ImageFormat::Png,
+            &px,
+            &WriteOptions {
+                sixteen_bit: true,
+                grey: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let img = image::open(&p).unwrap().into_luma16();
         assert_eq!(img.get_pixel(0, 0).0[0], 32768);
         assert_eq!(img.get_pixel(1, 0).0[0], 65535);
-        write_image(&p, ImageFormat::Png, &px, &WriteOptions { grey: true, levels: Some(64), ..Default::default() }).unwrap();
+        write_image(
+            &p,
+            ImageFormat::Png,
+            &px,
+            &WriteOptions {
+                grey: true,
+                levels: Some(64),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let img = image::open(&p).unwrap().into_luma8();
         // 0.26 * 63 = 16.38 → level 16 → 16/63 * 255 = 64.76 → 65.
         assert_eq!(img.get_pixel(1, 1).0[0], 65);
@@ -280,14 +366,32 @@ mod tests {
     fn pfm_and_pnm_headers() {
         let dir = tempfile::tempdir().unwrap();
         let rgb = [[0.25f32, 0.5, 2.0]];
-        let px = Pixels { width: 1, height: 1, rgb: &rgb, alpha: None };
+        let px = Pixels {
+            width: 1,
+            height: 1,
+            rgb: &rgb,
+            alpha: None,
+        };
         let p = dir.path().join("a.pfm");
         write_image(&p, ImageFormat::Pfm, &px, &WriteOptions::default()).unwrap();
         let b = std::fs::read(&p).unwrap();
         assert!(b.starts_with(b"PF\n1 1\n-1.0\n"));
-        assert_eq!(f32::from_le_bytes(b[b.len() - 4..].try_into().unwrap()), 2.0, "floats are kept unclamped");
+        assert_eq!(
+            f32::from_le_bytes(b[b.len() - 4..].try_into().unwrap()),
+            2.0,
+            "floats are kept unclamped"
+        );
         let p = dir.path().join("a.pgm");
-        write_image(&p, ImageFormat::Pnm, &px, &WriteOptions { grey: true, ..Default::default() }).unwrap();
+        write_image(
+            &p,
+            ImageFormat::Pnm,
+            &px,
+            &WriteOptions {
+                grey: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         // Grey is the mean of the channels: (0.25 + 0.5 + 2.0) / 3 → 234.
         assert_eq!(std::fs::read(&p).unwrap(), b"P5\n1 1\n255\n\xea".to_vec());
     }

@@ -8,4 +8,7 @@
 
 pub mod images;
 
-pub use images::{write_atomic, write_image, write_pfm, write_region_png, Encoding, ImageFormat, Pixels, WriteError, WriteOptions};
+pub use images::{
+    write_atomic, write_image, write_pfm, write_region_png, Encoding, ImageFormat, Pixels,
+    WriteError, WriteOptions,
+};

@@ -47,7 +47,11 @@ impl Frame {
         let mut s = String::new();
         for y in 0..self.height {
             for x in 0..self.width {
-                s.push(if self.alpha[(y * self.width + x) as usize] > 0.5 { '#' } else { '.' });
+                s.push(if self.alpha[(y * self.width + x) as usize] > 0.5 {
+                    '#'
+                } else {
+                    '.'
+                });
             }
             s.push('\n');
         }

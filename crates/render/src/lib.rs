@@ -40,7 +40,13 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { width: 960, height: 720, shadows: true, samples: 1, aovs: false }
+        Settings {
+            width: 960,
+            height: 720,
+            shadows: true,
+            samples: 1,
+            aovs: false,
+        }
     }
 }
 
@@ -64,12 +70,43 @@ impl Renderer {
     /// shoulder.
     pub fn new(scene: &Scene, aspect: f64) -> Result<(Renderer, Vec<Warning>), PrepareError> {
         let opaque = scene.regions.iter().map(|r| !r.transparent).collect();
-        let (prepared, warnings) = Prepared::new(&scene.geometry, &PrepareOptions { opaque: Some(opaque), ..Default::default() })?;
-        let camera = scene.camera.unwrap_or_else(|| default_camera(&prepared, aspect, 35.0, 25.0, false));
-        let lights = if scene.lights.is_empty() { default_lights(&camera) } else { scene.lights.clone() };
+        let (prepared, warnings) = Prepared::new(
+            &scene.geometry,
+            &PrepareOptions {
+                opaque: Some(opaque),
+                ..Default::default()
+            },
+        )?;
+        let camera = scene
+            .camera
+            .unwrap_or_else(|| default_camera(&prepared, aspect, 35.0, 25.0, false));
+        let lights = if scene.lights.is_empty() {
+            default_lights(&camera)
+        } else {
+            scene.lights.clone()
+        };
         let Background::Colour(background) = scene.background;
-        let looks = scene.regions.iter().map(|r| (r.k, r.colour.unwrap_or([1.0; 3]))).collect();
-        Ok((Renderer { prepared, camera, lights, ambient: scene.ambient, background, looks }, warnings))
+        let looks = scene
+            .regions
+            .iter()
+            .map(|r| (r.k, r.colour.unwrap_or([1.0; 3])))
+            .collect();
+        Ok((
+            Renderer {
+                prepared,
+                camera,
+                lights,
+                ambient: scene.ambient,
+                background,
+                looks,
+            },
+            warnings,
+        ))
+    }
+
+    /// Set the ambient intensity A₀.
+    pub fn set_ambient(&mut self, a: f64) {
+        self.ambient = a;
     }
 
     /// Replace the camera.
@@ -102,8 +139,8 @@ impl Renderer {
                 continue;
             }
             let e = l.intensity * k * cos * fall;
-            for c in 0..3 {
-                sum[c] += e * l.colour[c];
+            for (acc, lc) in sum.iter_mut().zip(l.colour) {
+                *acc += e * lc;
             }
         }
         std::array::from_fn(|c| colour[c] * (sum[c] + self.ambient))
@@ -118,27 +155,25 @@ impl Renderer {
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
         const ROWS: usize = 8;
-        let rgb_chunks = frame.rgb.par_chunks_mut(w * ROWS);
-        let alpha_chunks = frame.alpha.par_chunks_mut(w * ROWS);
-        let aov_len = if st.aovs { w * ROWS } else { 1 };
-        let region_chunks = frame.region.par_chunks_mut(aov_len);
-        let depth_chunks = frame.depth.par_chunks_mut(aov_len);
-        let normal_chunks = frame.normal.par_chunks_mut(aov_len);
-        rgb_chunks
-            .zip(alpha_chunks)
-            .zip(region_chunks.zip(depth_chunks).zip(normal_chunks))
+        frame
+            .rgb
+            .par_chunks_mut(w * ROWS)
+            .zip(frame.alpha.par_chunks_mut(w * ROWS))
             .enumerate()
             .for_each_init(
                 || Scratch::new(&self.prepared),
-                |s, (tile, ((rgb, alpha), ((region, depth), normal)))| {
+                |s, (tile, (rgb, alpha))| {
                     let y0 = tile * ROWS;
                     for (i, px) in rgb.iter_mut().enumerate() {
-                        let (x, y) = (i % w, y0 + i / w);
+                        let (x, y) = ((i % w) as f64, (y0 + i / w) as f64);
                         let mut acc = [0.0f64; 3];
                         let mut cover = 0.0;
                         for sy in 0..n {
                             for sx in 0..n {
-                                let ray = gen.ray(x as f64 + (sx as f64 + 0.5) / n as f64, y as f64 + (sy as f64 + 0.5) / n as f64);
+                                let ray = gen.ray(
+                                    x + (sx as f64 + 0.5) / n as f64,
+                                    y + (sy as f64 + 0.5) / n as f64,
+                                );
                                 let c = match self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
                                     Some(hit) => {
                                         cover += 1.0;
@@ -154,19 +189,34 @@ impl Renderer {
                         let inv = 1.0 / (n * n) as f64;
                         *px = acc.map(|v| (v * inv) as f32);
                         alpha[i] = (cover * inv) as f32;
-                        if st.aovs {
-                            let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
-                            if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
-                                region[i] = hit.region + 1;
-                                depth[i] = hit.t as f32;
-                                normal[i] = self.prepared.normal(&hit, &ray).as_vec3().to_array();
-                            }
-                        }
                     }
                     let rows = rgb.len() / w;
                     progress(done.fetch_add(rows, Ordering::Relaxed) + rows);
                 },
             );
+        if st.aovs {
+            // The auxiliary images describe the pixel centres.
+            frame
+                .region
+                .par_chunks_mut(w)
+                .zip(frame.depth.par_chunks_mut(w))
+                .zip(frame.normal.par_chunks_mut(w))
+                .enumerate()
+                .for_each_init(
+                    || Scratch::new(&self.prepared),
+                    |s, (y, ((region, depth), normal))| {
+                        for x in 0..w {
+                            let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
+                            if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
+                            {
+                                region[x] = hit.region + 1;
+                                depth[x] = hit.t as f32;
+                                normal[x] = self.prepared.normal(&hit, &ray).as_vec3().to_array();
+                            }
+                        }
+                    },
+                );
+        }
         debug_assert_eq!(frame.rgb.len(), w * h);
         frame
     }

@@ -23,16 +23,30 @@ pub fn default_camera(p: &Prepared, aspect: f64, az: f64, el: f64, ortho: bool) 
     let c = b.center();
     let r = 0.5 * b.diagonal();
     let toward_eye = az_el(az, el);
-    let up = if el.abs() > 89.0 { DVec3::new(-toward_eye.x, -toward_eye.y, 0.0).normalize_or(DVec3::Y) } else { DVec3::Z };
+    let up = if el.abs() > 89.0 {
+        DVec3::new(-toward_eye.x, -toward_eye.y, 0.0).normalize_or(DVec3::Y)
+    } else {
+        DVec3::Z
+    };
     if ortho {
-        return Camera { eye: c + toward_eye * (2.0 * r), dir: -toward_eye, up, lens: Lens::Ortho { height: 2.0 * r } };
+        return Camera {
+            eye: c + toward_eye * (2.0 * r),
+            dir: -toward_eye,
+            up,
+            lens: Lens::Ortho { height: 2.0 * r },
+        };
     }
     let fov: f64 = 30.0;
     // Fit the bounding sphere in the narrower of the two fields of view.
     let half_v = (fov.to_radians() / 2.0).tan();
     let half = half_v.min(half_v * aspect).atan();
     let dist = r / half.sin();
-    Camera { eye: c + toward_eye * dist, dir: -toward_eye, up, lens: Lens::Fov { vertical_deg: fov } }
+    Camera {
+        eye: c + toward_eye * dist,
+        dir: -toward_eye,
+        up,
+        lens: Lens::Fov { vertical_deg: fov },
+    }
 }
 
 /// One parallel light from over the viewer's left shoulder: it comes from
@@ -40,5 +54,10 @@ pub fn default_camera(p: &Prepared, aspect: f64, az: f64, el: f64, ortho: bool) 
 pub fn default_lights(cam: &Camera) -> Vec<Light> {
     let (right, up, fwd) = cam.basis();
     let dir = (fwd - up * 0.8 + right * 0.5).normalize();
-    vec![Light { name: "SUN".into(), kind: LightKind::Parallel { dir }, intensity: 0.85, colour: [1.0; 3] }]
+    vec![Light {
+        name: "SUN".into(),
+        kind: LightKind::Parallel { dir },
+        intensity: 0.85,
+        colour: [1.0; 3],
+    }]
 }

@@ -51,7 +51,12 @@ impl Default for Camera {
 impl Camera {
     /// A camera at `eye` looking at `at`.
     pub fn looking_at(eye: DVec3, at: DVec3, up: DVec3, lens: Lens) -> Camera {
-        Camera { eye, dir: at - eye, up, lens }
+        Camera {
+            eye,
+            dir: at - eye,
+            up,
+            lens,
+        }
     }
 
     /// Right, up and forward unit vectors of the image plane. When `up` is
@@ -130,13 +135,28 @@ mod tests {
 
     #[test]
     fn centre_pixel_looks_along_the_view_direction_and_corners_span_the_fov() {
-        let cam = Camera::looking_at(DVec3::ZERO, DVec3::new(0.0, 10.0, 0.0), DVec3::Z, Lens::Fov { vertical_deg: 90.0 });
+        let cam = Camera::looking_at(
+            DVec3::ZERO,
+            DVec3::new(0.0, 10.0, 0.0),
+            DVec3::Z,
+            Lens::Fov { vertical_deg: 90.0 },
+        );
         let g = cam.rays(200, 100);
         let c = g.ray(100.0, 50.0);
         assert!((c.dir - DVec3::Y).length() < 1e-12);
         let top = g.ray(100.0, 0.0);
-        assert!((top.dir.z - top.dir.y).abs() < 1e-12, "45 degrees up: {:?}", top.dir);
-        let focal = Camera { lens: Lens::Focal { focal: 1.0, film_height: 2.0 }, ..cam };
+        assert!(
+            (top.dir.z - top.dir.y).abs() < 1e-12,
+            "45 degrees up: {:?}",
+            top.dir
+        );
+        let focal = Camera {
+            lens: Lens::Focal {
+                focal: 1.0,
+                film_height: 2.0,
+            },
+            ..cam
+        };
         assert!((focal.tan_half_fov() - 1.0).abs() < 1e-12);
     }
 }

@@ -1,5 +1,5 @@
 //! COMGEOM / GIFT fixed-column decks.
-use crate::{Diagnostics, LoadOptions, Loaded, SourceFile, Diagnostic};
+use crate::{Diagnostic, Diagnostics, LoadOptions, Loaded, SourceFile};
 
 /// Read a COMGEOM deck.
 pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics> {

@@ -1,5 +1,5 @@
 //! FLUKA free-format geometry.
-use crate::{Diagnostics, LoadOptions, Loaded, SourceFile, Diagnostic};
+use crate::{Diagnostic, Diagnostics, LoadOptions, Loaded, SourceFile};
 
 /// Read the geometry of a FLUKA input.
 pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics> {

@@ -28,7 +28,12 @@ impl Frame {
     fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3) -> Frame {
         let m = DMat3::from_cols(a, b, h);
         let inv = m.inverse();
-        Frame { v, m, inv, inv_t: inv.transpose() }
+        Frame {
+            v,
+            m,
+            inv,
+            inv_t: inv.transpose(),
+        }
     }
 
     #[inline]
@@ -47,7 +52,11 @@ impl Frame {
         }
         let ta = -o.z / d.z;
         let tb = (1.0 - o.z) / d.z;
-        Some(if d.z > 0.0 { (ta, tb, BASE, TOP) } else { (tb, ta, TOP, BASE) })
+        Some(if d.z > 0.0 {
+            (ta, tb, BASE, TOP)
+        } else {
+            (tb, ta, TOP, BASE)
+        })
     }
 
     fn world_normal(&self, g: DVec3) -> DVec3 {
@@ -73,13 +82,18 @@ impl Cone {
     /// Base centre `v`, base semi-axes `a`, `b`, height `h`, and the ratio of
     /// the top axes to the base axes.
     pub fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3, ratio: f64) -> Cone {
-        Cone { f: Frame::new(v, a, b, h), k: ratio - 1.0 }
+        Cone {
+            f: Frame::new(v, a, b, h),
+            k: ratio - 1.0,
+        }
     }
 
     #[inline]
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);
-        let Some((mut t0, mut t1, mut f0, mut f1)) = Frame::slab(o, d) else { return };
+        let Some((mut t0, mut t1, mut f0, mut f1)) = Frame::slab(o, d) else {
+            return;
+        };
         let k = self.k;
         let s0 = 1.0 + k * o.z;
         let a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
@@ -95,7 +109,11 @@ impl Cone {
                 (f64::NEG_INFINITY, f64::INFINITY)
             } else {
                 let t = -c / (2.0 * b);
-                if b > 0.0 { (f64::NEG_INFINITY, t) } else { (t, f64::INFINITY) }
+                if b > 0.0 {
+                    (f64::NEG_INFINITY, t)
+                } else {
+                    (t, f64::INFINITY)
+                }
             }
         } else {
             let disc = b * b - a * c;
@@ -118,7 +136,11 @@ impl Cone {
                     (true, true) => {
                         // Both pieces reach the slab only through rounding
                         // near the apex: keep the longer one.
-                        if r0 - t0 >= t1 - r1 { (f64::NEG_INFINITY, r0) } else { (r1, f64::INFINITY) }
+                        if r0 - t0 >= t1 - r1 {
+                            (f64::NEG_INFINITY, r0)
+                        } else {
+                            (r1, f64::INFINITY)
+                        }
                     }
                     (false, false) => return,
                 }
@@ -143,7 +165,8 @@ impl Cone {
             TOP => self.f.world_normal(DVec3::Z),
             _ => {
                 let q = self.f.inv * (p - self.f.v);
-                self.f.world_normal(DVec3::new(q.x, q.y, -self.k * (1.0 + self.k * q.z)))
+                self.f
+                    .world_normal(DVec3::new(q.x, q.y, -self.k * (1.0 + self.k * q.z)))
             }
         }
     }
@@ -183,7 +206,11 @@ impl GeneralCone {
     /// Base centre `v`, base semi-axes `a`, `b`, height `h`; the top
     /// semi-axes are `a·ra` and `b·rb`.
     pub fn new(v: DVec3, a: DVec3, b: DVec3, h: DVec3, ra: f64, rb: f64) -> GeneralCone {
-        GeneralCone { f: Frame::new(v, a, b, h), ka: ra - 1.0, kb: rb - 1.0 }
+        GeneralCone {
+            f: Frame::new(v, a, b, h),
+            ka: ra - 1.0,
+            kb: rb - 1.0,
+        }
     }
 
     fn inside_local(&self, q: DVec3) -> bool {
@@ -194,15 +221,26 @@ impl GeneralCone {
 
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);
-        let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else { return };
+        let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else {
+            return;
+        };
         // Bound the search by the box of the two end ellipses in local space.
         // z is left loose: the slab above already bounds it, and a box face
         // coinciding with a cap would steal its face label by rounding.
-        let lb = Aabb::new(DVec3::new(-m2(self.ka), -m2(self.kb), -1.0), DVec3::new(m2(self.ka), m2(self.kb), 2.0));
-        let lray = Ray { origin: o, dir: d, inv_dir: d.recip() };
-        let Some((b0, b1)) = lb.ray_range(&lray) else { return };
+        let lb = Aabb::new(
+            DVec3::new(-m2(self.ka), -m2(self.kb), -1.0),
+            DVec3::new(m2(self.ka), m2(self.kb), 2.0),
+        );
+        let lray = Ray {
+            origin: o,
+            dir: d,
+            inv_dir: d.recip(),
+        };
+        let Some((b0, b1)) = lb.ray_range(&lray) else {
+            return;
+        };
         let (lo, hi) = (t0.max(b0), t1.min(b1));
-        if !(lo < hi) {
+        if lo >= hi || lo.is_nan() || hi.is_nan() {
             return;
         }
         // Shift the origin to `lo` for conditioning.

@@ -27,7 +27,10 @@ impl Mesh {
         let bounds = Aabb::from_points(tris.iter().flatten().copied());
         let eps = 1e-9 * bounds.diagonal().max(1e-300);
         let c = bounds.center();
-        let signed_volume: f64 = tris.iter().map(|[a, b, d]| (*a - c).dot((*b - c).cross(*d - c))).sum();
+        let signed_volume: f64 = tris
+            .iter()
+            .map(|[a, b, d]| (*a - c).dot((*b - c).cross(*d - c)))
+            .sum();
         let flip = if signed_volume < 0.0 { -1.0 } else { 1.0 };
         let tris = tris
             .iter()
@@ -39,7 +42,12 @@ impl Mesh {
                 if len <= eps * eps {
                     return None;
                 }
-                Some(Tri { v0: *a, e1, e2, n: n / len * flip })
+                Some(Tri {
+                    v0: *a,
+                    e1,
+                    e2,
+                    n: n / len * flip,
+                })
             })
             .collect();
         Mesh { tris, bounds, eps }
@@ -75,7 +83,12 @@ impl Mesh {
                 continue;
             }
             let t = tri.e2.dot(q) * inv;
-            out.push(Seg { t0: t, t1: t, f0: i as u32, f1: i as u32 });
+            out.push(Seg {
+                t0: t,
+                t1: t,
+                f0: i as u32,
+                f1: i as u32,
+            });
         }
         let hits = &mut out[base..];
         hits.sort_by(|a, b| a.t0.total_cmp(&b.t0));
@@ -91,7 +104,12 @@ impl Mesh {
         let pairs = n / 2;
         for k in 0..pairs {
             let (a, b) = (out[base + 2 * k], out[base + 2 * k + 1]);
-            out[base + k] = Seg { t0: a.t0, t1: b.t0, f0: a.f0, f1: b.f0 };
+            out[base + k] = Seg {
+                t0: a.t0,
+                t1: b.t0,
+                f0: a.f0,
+                f1: b.f0,
+            };
         }
         out.truncate(base + pairs);
     }
@@ -101,7 +119,14 @@ impl Mesh {
     }
 
     pub(crate) fn contains(&self, p: DVec3) -> bool {
-        let ray = Ray::new(p, DVec3::new(0.577_350_269_189_625_8, 0.577_350_269_189_625_7, 0.577_350_269_189_626));
+        let ray = Ray::new(
+            p,
+            DVec3::new(
+                0.577_350_269_189_625_8,
+                0.577_350_269_189_625_7,
+                0.577_350_269_189_626,
+            ),
+        );
         let mut segs = Vec::new();
         self.shoot(&ray, &mut segs);
         segs.iter().any(|s| s.t0 < 0.0 && s.t1 > 0.0)

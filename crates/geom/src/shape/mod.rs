@@ -121,7 +121,10 @@ impl Shape {
 
     /// True for shapes whose segments are always a single convex stretch.
     pub fn is_convex(&self) -> bool {
-        !matches!(self, Shape::GeneralCone(_) | Shape::Quadric(_) | Shape::Torus(_) | Shape::Mesh(_))
+        !matches!(
+            self,
+            Shape::GeneralCone(_) | Shape::Quadric(_) | Shape::Torus(_) | Shape::Mesh(_)
+        )
     }
 }
 
@@ -170,7 +173,12 @@ pub(crate) fn segments_by_classification(
             }
             _ => {
                 out.extend(cur.take());
-                cur = Some(Seg { t0: ta, t1: tb, f0: fa, f1: fb });
+                cur = Some(Seg {
+                    t0: ta,
+                    t1: tb,
+                    f0: fa,
+                    f1: fb,
+                });
             }
         }
     }

@@ -39,8 +39,7 @@ pub fn roots_in(c: &[f64], lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
             let mut n = 0;
             let mut a = lo;
             let mut fa = eval(c, a);
-            for k in 0..=nc {
-                let b = if k < nc { crit[k] } else { hi };
+            for b in crit[..nc].iter().copied().chain(std::iter::once(hi)) {
                 let fb = eval(c, b);
                 if fa == 0.0 {
                     if n == 0 || out[n - 1] != a {
@@ -78,7 +77,11 @@ fn monotone_root(c: &[f64], d: &[f64], mut a: f64, mut b: f64, fa: f64) -> f64 {
         }
         let df = eval(d, t);
         let nt = t - f / df;
-        let next = if df != 0.0 && nt > a && nt < b { nt } else { 0.5 * (a + b) };
+        let next = if df != 0.0 && nt > a && nt < b {
+            nt
+        } else {
+            0.5 * (a + b)
+        };
         if (next - t).abs() <= 1e-15 * t.abs().max(1.0) || b - a <= 1e-15 * t.abs().max(1.0) {
             return next;
         }
@@ -100,7 +103,10 @@ mod tests {
         for (i, &x) in r.iter().enumerate() {
             assert!((x - (i + 1) as f64).abs() < 1e-12, "{r:?}");
         }
-        assert_eq!(roots_in(&[24.0, -50.0, 35.0, -10.0, 1.0], 2.5, 3.5, &mut r), 1);
+        assert_eq!(
+            roots_in(&[24.0, -50.0, 35.0, -10.0, 1.0], 2.5, 3.5, &mut r),
+            1
+        );
         assert!((r[0] - 3.0).abs() < 1e-12);
     }
 

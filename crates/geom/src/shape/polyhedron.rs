@@ -113,7 +113,10 @@ pub(crate) fn convex_hull_planes(pts: &[DVec3], eps: f64) -> Hull {
                     nrm = -nrm;
                     d = -d;
                 }
-                if !planes.iter().any(|q| q.n.dot(nrm) > 1.0 - 1e-12 && (q.d - d).abs() <= eps) {
+                if !planes
+                    .iter()
+                    .any(|q| q.n.dot(nrm) > 1.0 - 1e-12 && (q.d - d).abs() <= eps)
+                {
                     planes.push(Plane { n: nrm, d });
                 }
             }
@@ -123,7 +126,11 @@ pub(crate) fn convex_hull_planes(pts: &[DVec3], eps: f64) -> Hull {
     // each face's area comes from the points lying on it.
     let mut volume = 0.0;
     for pl in &planes {
-        let on: Vec<DVec3> = pts.iter().copied().filter(|p| (pl.n.dot(*p) - pl.d).abs() <= eps).collect();
+        let on: Vec<DVec3> = pts
+            .iter()
+            .copied()
+            .filter(|p| (pl.n.dot(*p) - pl.d).abs() <= eps)
+            .collect();
         volume += face_area(&on, pl.n) * (pl.d - pl.n.dot(centroid)) / 3.0;
     }
     Hull { planes, volume }
@@ -136,7 +143,10 @@ fn face_area(pts: &[DVec3], n: DVec3) -> f64 {
     }
     let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
     let (u, v) = sv_math::orthonormal_basis(n);
-    let mut ang: Vec<(f64, DVec3)> = pts.iter().map(|p| ((p - c).dot(v).atan2((p - c).dot(u)), *p)).collect();
+    let mut ang: Vec<(f64, DVec3)> = pts
+        .iter()
+        .map(|p| ((p - c).dot(v).atan2((p - c).dot(u)), *p))
+        .collect();
     ang.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut area = 0.0;
     for i in 0..ang.len() {
@@ -155,7 +165,11 @@ mod tests {
     fn hull_of_unit_cube_has_six_planes_and_unit_volume() {
         let mut pts = vec![];
         for i in 0..8 {
-            pts.push(DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64));
+            pts.push(DVec3::new(
+                (i & 1) as f64,
+                ((i >> 1) & 1) as f64,
+                ((i >> 2) & 1) as f64,
+            ));
         }
         let h = convex_hull_planes(&pts, 1e-9);
         assert_eq!(h.planes.len(), 6);

@@ -15,7 +15,12 @@ impl Ellipsoid {
     /// `m` (which must be invertible).
     pub fn new(c: DVec3, m: DMat3) -> Ellipsoid {
         let inv = m.inverse();
-        Ellipsoid { c, m, inv, inv_t: inv.transpose() }
+        Ellipsoid {
+            c,
+            m,
+            inv,
+            inv_t: inv.transpose(),
+        }
     }
 
     #[inline]
@@ -27,7 +32,12 @@ impl Ellipsoid {
         let tc = -o.dot(d) / dd;
         let oc = o + d * tc;
         if let Some((t0, t1)) = quadratic(dd, 0.0, oc.length_squared() - 1.0) {
-            out.push(Seg { t0: t0 + tc, t1: t1 + tc, f0: 0, f1: 0 });
+            out.push(Seg {
+                t0: t0 + tc,
+                t1: t1 + tc,
+                f0: 0,
+                f1: 0,
+            });
         }
     }
 
@@ -73,34 +83,72 @@ impl Quadric {
         let b = md.dot(o) + self.b.dot(d);
         let c = self.value(o);
         let inf = f64::INFINITY;
-        let scale = self.m.x_axis.abs().max_element().max(self.m.y_axis.abs().max_element()).max(self.m.z_axis.abs().max_element());
+        let scale = self
+            .m
+            .x_axis
+            .abs()
+            .max_element()
+            .max(self.m.y_axis.abs().max_element())
+            .max(self.m.z_axis.abs().max_element());
         if a.abs() <= 1e-14 * scale {
             // Linear along the ray: 2 b t + c < 0.
             if b == 0.0 {
                 if c < 0.0 {
-                    out.push(Seg { t0: -inf, t1: inf, f0: 0, f1: 0 });
+                    out.push(Seg {
+                        t0: -inf,
+                        t1: inf,
+                        f0: 0,
+                        f1: 0,
+                    });
                 }
             } else {
                 let t = -c / (2.0 * b);
                 if b > 0.0 {
-                    out.push(Seg { t0: -inf, t1: t, f0: 0, f1: 0 });
+                    out.push(Seg {
+                        t0: -inf,
+                        t1: t,
+                        f0: 0,
+                        f1: 0,
+                    });
                 } else {
-                    out.push(Seg { t0: t, t1: inf, f0: 0, f1: 0 });
+                    out.push(Seg {
+                        t0: t,
+                        t1: inf,
+                        f0: 0,
+                        f1: 0,
+                    });
                 }
             }
             return;
         }
         match quadratic(a, b, c) {
-            Some((t0, t1)) if a > 0.0 => {
-                if t1 > t0 {
-                    out.push(Seg { t0, t1, f0: 0, f1: 0 });
-                }
-            }
+            Some((t0, t1)) if a > 0.0 && t1 > t0 => out.push(Seg {
+                t0,
+                t1,
+                f0: 0,
+                f1: 0,
+            }),
+            Some(_) if a > 0.0 => {}
             Some((t0, t1)) => {
-                out.push(Seg { t0: -inf, t1: t0, f0: 0, f1: 0 });
-                out.push(Seg { t0: t1, t1: inf, f0: 0, f1: 0 });
+                out.push(Seg {
+                    t0: -inf,
+                    t1: t0,
+                    f0: 0,
+                    f1: 0,
+                });
+                out.push(Seg {
+                    t0: t1,
+                    t1: inf,
+                    f0: 0,
+                    f1: 0,
+                });
             }
-            None if a < 0.0 => out.push(Seg { t0: -inf, t1: inf, f0: 0, f1: 0 }),
+            None if a < 0.0 => out.push(Seg {
+                t0: -inf,
+                t1: inf,
+                f0: 0,
+                f1: 0,
+            }),
             None => {}
         }
     }

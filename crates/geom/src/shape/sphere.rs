@@ -15,7 +15,12 @@ pub struct Sphere {
 impl Sphere {
     /// A sphere of radius `r > 0`.
     pub fn new(c: DVec3, r: f64) -> Sphere {
-        Sphere { c, r, r2: r * r, inv_r: 1.0 / r }
+        Sphere {
+            c,
+            r,
+            r2: r * r,
+            inv_r: 1.0 / r,
+        }
     }
 
     #[inline]
@@ -31,7 +36,12 @@ impl Sphere {
             return;
         }
         if let Some((t0, t1)) = quadratic(1.0, b, oc.length_squared() - self.r2) {
-            out.push(Seg { t0, t1, f0: 0, f1: 0 });
+            out.push(Seg {
+                t0,
+                t1,
+                f0: 0,
+                f1: 0,
+            });
         }
     }
 

@@ -20,7 +20,13 @@ impl Torus {
         let n = axis.normalize();
         let (u, v) = sv_math::orthonormal_basis(n);
         let rot = DMat3::from_cols(u, v, n).transpose();
-        Torus { c, rot, r1, r2, axis: n }
+        Torus {
+            c,
+            rot,
+            r1,
+            r2,
+            axis: n,
+        }
     }
 
     fn inside_local(&self, q: DVec3) -> bool {
@@ -33,7 +39,13 @@ impl Torus {
         let d = self.rot * ray.dir;
         let e = self.r1 + self.r2;
         let lb = Aabb::new(DVec3::new(-e, -e, -self.r2), DVec3::new(e, e, self.r2));
-        let Some((lo, hi)) = lb.ray_range(&Ray { origin: o, dir: d, inv_dir: d.recip() }) else { return };
+        let Some((lo, hi)) = lb.ray_range(&Ray {
+            origin: o,
+            dir: d,
+            inv_dir: d.recip(),
+        }) else {
+            return;
+        };
         // Shift the origin to the box entry so the quartic is well scaled.
         let o = o + d * lo;
         let (a2, b2) = (self.r1 * self.r1, self.r2 * self.r2);

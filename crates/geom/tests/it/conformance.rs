@@ -16,26 +16,97 @@ pub fn samples() -> Vec<Body> {
     vec![
         b(Sph, &[1.0, 2.0, 3.0, 1.5]),
         b(Rcc, &[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 0.7]),
-        b(Rec, &[0.0, 0.0, 0.0, 0.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+        b(
+            Rec,
+            &[0.0, 0.0, 0.0, 0.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        ),
         b(Trc, &[0.0, 0.0, 0.0, 0.0, 1.0, 4.0, 2.0, 0.5]),
         b(Trc, &[0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 1.0]),
-        b(Tec, &[0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.6]),
-        b(Tgc, &[0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 8.0, 0.0, 2.0, 9.0]),
-        b(Tgc, &[0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 8.0, 0.0, 2.5, 4.0]),
+        b(
+            Tec,
+            &[
+                0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.6,
+            ],
+        ),
+        b(
+            Tgc,
+            &[
+                0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 8.0, 0.0, 2.0, 9.0,
+            ],
+        ),
+        b(
+            Tgc,
+            &[
+                0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 5.0, 0.0, 0.0, 0.0, 8.0, 0.0, 2.5, 4.0,
+            ],
+        ),
         b(Ell, &[0.0, 0.0, 0.0, 4.0, 1.0, 0.0, 6.0]),
         b(Ell1, &[3.0, 2.0, 8.0, 3.0, -1.0, 8.0, 4.0]),
-        b(Ellg, &[10.0, 0.0, 0.0, -12.0, 0.0, 0.0, 0.0, -3.0, 0.0, 0.0, 0.0, 5.0]),
+        b(
+            Ellg,
+            &[
+                10.0, 0.0, 0.0, -12.0, 0.0, 0.0, 0.0, -3.0, 0.0, 0.0, 0.0, 5.0,
+            ],
+        ),
         b(Rpp, &[-1.0, 2.0, -3.0, 4.0, 0.5, 1.5]),
-        b(Box, &[0.0, 0.0, 0.0, 1.0, 1.0, 0.0, -2.0, 2.0, 0.0, 0.0, 0.0, 3.0]),
-        b(Raw, &[-70.0, 0.0, 35.0, 0.0, -11.0, 11.0, 0.0, 11.0, 11.0, 40.0, 0.0, 0.0]),
-        b(Arb4, &[3.0, 0.0, -3.0, 3.0, 0.0, 0.0, 3.0, -3.0, -3.0, 0.0, 0.0, -3.0]),
-        b(Arb5, &[1.0, 0.0, 0.0, 1.0, 2.0, 0.0, 3.0, 2.0, 0.0, 3.0, 0.0, 0.0, 1.5, 1.5, 5.0]),
-        b(Arb6, &[2.0, -0.5, -0.5, 2.0, 0.0, -0.5, 2.0, 0.0, 0.0, 2.0, -0.5, 0.0, 2.5, -0.3, -0.5, 2.5, -0.3, 0.0]),
-        b(Arb7, &[3.25, -1.25, -0.75, 3.25, -0.25, -0.75, 3.25, -0.25, 0.25, 3.25, -1.25, -0.25, 2.25, -1.25, -0.75, 2.25, -0.25, -0.75, 2.25, -0.25, -0.25]),
-        b(Arb8, &[10.0, -9.0, -8.0, 10.0, -1.0, -8.0, 10.0, -1.0, 0.0, 10.0, -9.0, 0.0, 3.0, -9.0, -8.0, 3.0, -1.0, -8.0, 3.0, -1.0, 0.0, 3.0, -9.0, 0.0]),
+        b(
+            Box,
+            &[0.0, 0.0, 0.0, 1.0, 1.0, 0.0, -2.0, 2.0, 0.0, 0.0, 0.0, 3.0],
+        ),
+        b(
+            Raw,
+            &[
+                -70.0, 0.0, 35.0, 0.0, -11.0, 11.0, 0.0, 11.0, 11.0, 40.0, 0.0, 0.0,
+            ],
+        ),
+        b(
+            Arb4,
+            &[
+                3.0, 0.0, -3.0, 3.0, 0.0, 0.0, 3.0, -3.0, -3.0, 0.0, 0.0, -3.0,
+            ],
+        ),
+        b(
+            Arb5,
+            &[
+                1.0, 0.0, 0.0, 1.0, 2.0, 0.0, 3.0, 2.0, 0.0, 3.0, 0.0, 0.0, 1.5, 1.5, 5.0,
+            ],
+        ),
+        b(
+            Arb6,
+            &[
+                2.0, -0.5, -0.5, 2.0, 0.0, -0.5, 2.0, 0.0, 0.0, 2.0, -0.5, 0.0, 2.5, -0.3, -0.5,
+                2.5, -0.3, 0.0,
+            ],
+        ),
+        b(
+            Arb7,
+            &[
+                3.25, -1.25, -0.75, 3.25, -0.25, -0.75, 3.25, -0.25, 0.25, 3.25, -1.25, -0.25,
+                2.25, -1.25, -0.75, 2.25, -0.25, -0.75, 2.25, -0.25, -0.25,
+            ],
+        ),
+        b(
+            Arb8,
+            &[
+                10.0, -9.0, -8.0, 10.0, -1.0, -8.0, 10.0, -1.0, 0.0, 10.0, -9.0, 0.0, 3.0, -9.0,
+                -8.0, 3.0, -1.0, -8.0, 3.0, -1.0, 0.0, 3.0, -9.0, 0.0,
+            ],
+        ),
         b(Tor, &[0.0, 0.0, 0.0, 0.3015, 0.3015, 0.9045, 5.0, 2.0]),
-        b(Ars, &[3.0, 3.0, 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 100., 100., 0., 100., 100., 100., 100., 0., 0., 200., 0., 0., 200., 0., 0., 200.]),
-        b(ArbF, &[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1., 0., 1., 1., 4321., 5678., 2376., 1485., 1265., 4378.]),
+        b(
+            Ars,
+            &[
+                3.0, 3.0, 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 100., 100., 0., 100., 100.,
+                100., 100., 0., 0., 200., 0., 0., 200., 0., 0., 200.,
+            ],
+        ),
+        b(
+            ArbF,
+            &[
+                0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0., 0., 1., 1., 0., 1., 1., 1., 1.,
+                0., 1., 1., 4321., 5678., 2376., 1485., 1265., 4378.,
+            ],
+        ),
         b(Haf, &[0.5774, 0.5774, 0.5774, -5.0]),
         b(Xyp, &[2.0]),
         b(Pla, &[1.0, 1.0, 0.0, 0.0, 0.0, 1.0]),
@@ -48,16 +119,39 @@ pub fn samples() -> Vec<Body> {
 fn prepare_one(b: &Body) -> Prepared {
     let g = Geometry {
         bodies: vec![b.clone()],
-        regions: vec![Region { name: "r".into(), zones: vec![Zone { terms: vec![Term { op: Op::Inside, body: 0 }] }] }],
+        regions: vec![Region {
+            name: "r".into(),
+            zones: vec![Zone {
+                terms: vec![Term {
+                    op: Op::Inside,
+                    body: 0,
+                }],
+            }],
+        }],
     };
-    Prepared::new(&g, &PrepareOptions::default()).expect("sample body prepares").0
+    Prepared::new(&g, &PrepareOptions::default())
+        .expect("sample body prepares")
+        .0
 }
 
 fn random_ray(rng: &mut Pcg64, p: &Prepared) -> Ray {
     let bb = p.body_bounds(0);
-    let (lo, hi) = if bb.is_finite() { (bb.min, bb.max) } else { (DVec3::splat(-10.0), DVec3::splat(10.0)) };
-    let target = DVec3::new(rng.gen_range(lo.x..=hi.x), rng.gen_range(lo.y..=hi.y), rng.gen_range(lo.z..=hi.z));
-    let dir = DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)).normalize();
+    let (lo, hi) = if bb.is_finite() {
+        (bb.min, bb.max)
+    } else {
+        (DVec3::splat(-10.0), DVec3::splat(10.0))
+    };
+    let target = DVec3::new(
+        rng.gen_range(lo.x..=hi.x),
+        rng.gen_range(lo.y..=hi.y),
+        rng.gen_range(lo.z..=hi.z),
+    );
+    let dir = DVec3::new(
+        rng.gen_range(-1.0..1.0),
+        rng.gen_range(-1.0..1.0),
+        rng.gen_range(-1.0..1.0),
+    )
+    .normalize();
     let dist = (hi - lo).length().clamp(1.0, 1e6) * 2.0;
     Ray::new(target - dir * dist, dir)
 }
@@ -85,12 +179,20 @@ fn every_body_passes_the_conformance_suite() {
             for (i, s) in segs.iter().enumerate() {
                 assert!(s.t0 <= s.t1, "{}: entry after exit {s:?}", body.kind);
                 if i > 0 {
-                    assert!(segs[i - 1].t1 <= s.t0, "{}: segments overlap or unsorted", body.kind);
+                    assert!(
+                        segs[i - 1].t1 <= s.t0,
+                        "{}: segments overlap or unsorted",
+                        body.kind
+                    );
                 }
                 let (a, b) = (s.t0.max(-1e3 * scale), s.t1.min(1e3 * scale));
                 if b - a > 10.0 * eps {
                     let mid = ray.at(0.5 * (a + b));
-                    assert!(shape.contains(mid), "{}: midpoint {mid} of {s:?} not inside", body.kind);
+                    assert!(
+                        shape.contains(mid),
+                        "{}: midpoint {mid} of {s:?} not inside",
+                        body.kind
+                    );
                 }
                 for (t, face, sign) in [(s.t0, s.f0, -1.0), (s.t1, s.f1, 1.0)] {
                     if !t.is_finite() {
@@ -98,11 +200,25 @@ fn every_body_passes_the_conformance_suite() {
                     }
                     hits += 1;
                     let pt = ray.at(t);
-                    assert!(!shape.contains(ray.at(t + sign * 10.0 * eps)) || segs.iter().any(|o| o != s && o.t0 <= t + 20.0 * eps && o.t1 >= t - 20.0 * eps),
-                        "{}: point just outside {pt} is inside", body.kind);
-                    assert!(bb.padded(eps).contains(pt), "{}: hit {pt} outside bounds {bb:?}", body.kind);
+                    assert!(
+                        !shape.contains(ray.at(t + sign * 10.0 * eps))
+                            || segs.iter().any(|o| o != s
+                                && o.t0 <= t + 20.0 * eps
+                                && o.t1 >= t - 20.0 * eps),
+                        "{}: point just outside {pt} is inside",
+                        body.kind
+                    );
+                    assert!(
+                        bb.padded(eps).contains(pt),
+                        "{}: hit {pt} outside bounds {bb:?}",
+                        body.kind
+                    );
                     let n = shape.normal(face, pt);
-                    assert!((n.length() - 1.0).abs() < 1e-9, "{}: normal not unit", body.kind);
+                    assert!(
+                        (n.length() - 1.0).abs() < 1e-9,
+                        "{}: normal not unit",
+                        body.kind
+                    );
                     // A ray through an edge (a cone's rim) may be given either
                     // face; such hits are rare, systematic errors are not.
                     if n.dot(ray.dir) * sign < -1e-6 {
@@ -110,16 +226,32 @@ fn every_body_passes_the_conformance_suite() {
                     }
                     let probe = 1e-4 * scale;
                     if shape.is_convex() {
-                        assert!(!shape.contains(pt + n * probe), "{}: outward normal points inside", body.kind);
+                        assert!(
+                            !shape.contains(pt + n * probe),
+                            "{}: outward normal points inside",
+                            body.kind
+                        );
                         // A ray leaving the surface outward never re-hits a convex body.
                         let out = Ray::new(pt + n * eps, (n + ray.dir * sign).normalize());
-                        assert!(shoot(shape, &out).iter().all(|s| s.t1 <= 10.0 * eps), "{}: re-hit after leaving", body.kind);
+                        assert!(
+                            shoot(shape, &out).iter().all(|s| s.t1 <= 10.0 * eps),
+                            "{}: re-hit after leaving",
+                            body.kind
+                        );
                     }
                 }
             }
         }
-        assert!(hits > 20, "{}: only {hits} surface hits in 400 rays", body.kind);
-        assert!(wrong_way * 100 <= hits, "{}: {wrong_way} of {hits} normals face the wrong way", body.kind);
+        assert!(
+            hits > 20,
+            "{}: only {hits} surface hits in 400 rays",
+            body.kind
+        );
+        assert!(
+            wrong_way * 100 <= hits,
+            "{}: {wrong_way} of {hits} normals face the wrong way",
+            body.kind
+        );
     }
 }
 
@@ -130,29 +262,47 @@ fn segments_are_invariant_under_rigid_transforms() {
         let p = prepare_one(&body);
         for _ in 0..5 {
             let q = DQuat::from_axis_angle(
-                DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)).normalize(),
-                rng.gen_range(0.0..6.28),
+                DVec3::new(
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                )
+                .normalize(),
+                rng.gen_range(0.0..std::f64::consts::TAU),
             );
-            let xf = DAffine3::from_rotation_translation(q, DVec3::new(rng.gen_range(-50.0..50.0), 3.0, -7.0));
+            let xf = DAffine3::from_rotation_translation(
+                q,
+                DVec3::new(rng.gen_range(-50.0..50.0), 3.0, -7.0),
+            );
             let moved = body.transformed(&xf).unwrap();
             let pm = prepare_one(&moved);
-            let scale = p.body_bounds(0).diagonal().min(100.0).max(1.0);
+            let scale = p.body_bounds(0).diagonal().clamp(1.0, 100.0);
             for _ in 0..60 {
                 let r = random_ray(&mut rng, &p);
                 let rm = Ray::new(xf.transform_point3(r.origin), xf.transform_vector3(r.dir));
                 let (a, b) = (shoot(p.shape(0), &r), shoot(pm.shape(0), &rm));
-                let fin = |s: &[Seg]| -> Vec<f64> { s.iter().flat_map(|s| [s.t0, s.t1]).filter(|t| t.is_finite()).collect() };
+                let fin = |s: &[Seg]| -> Vec<f64> {
+                    s.iter()
+                        .flat_map(|s| [s.t0, s.t1])
+                        .filter(|t| t.is_finite())
+                        .collect()
+                };
                 let (fa, fb) = (fin(&a), fin(&b));
                 if fa.len() == fb.len() {
                     for (x, y) in fa.iter().zip(&fb) {
-                        assert!((x - y).abs() < 1e-6 * scale.max(x.abs()), "{}: {x} vs {y}", body.kind);
+                        assert!(
+                            (x - y).abs() < 1e-6 * scale.max(x.abs()),
+                            "{}: {x} vs {y}",
+                            body.kind
+                        );
                     }
                 } else {
                     // Only grazing rays may differ in the number of crossings.
                     let graze = fa.iter().chain(&fb).any(|t| {
                         let n = p.shape(0).normal(0, r.at(*t));
                         n.dot(r.dir).abs() < 1e-3
-                    }) || (fa.len() as i64 - fb.len() as i64).abs() <= 2 && a.iter().chain(&b).any(|s| s.t1 - s.t0 < 1e-3 * scale);
+                    }) || (fa.len() as i64 - fb.len() as i64).abs() <= 2
+                        && a.iter().chain(&b).any(|s| s.t1 - s.t0 < 1e-3 * scale);
                     assert!(graze, "{}: {fa:?} vs {fb:?}", body.kind);
                 }
             }
@@ -164,19 +314,59 @@ fn segments_are_invariant_under_rigid_transforms() {
 fn invalid_parameters_name_the_body_and_rule() {
     use BodyKind::*;
     let cases: &[(BodyKind, &[f64], &str)] = &[
-        (Sph, &[0.0, 0.0, 0.0, 0.0], "SPH `bad`: radius must be positive (is 0)"),
-        (Rcc, &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0], "RCC `bad`: height vector is zero"),
-        (Box, &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0], "BOX `bad`: edges A and B are not perpendicular"),
-        (Arb4, &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0], "ARB4 `bad`: the vertices span no volume (degenerate polyhedron)"),
-        (Rpp, &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0], "RPP `bad`: xmin (1) must be less than xmax (0)"),
-        (Tor, &[0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 2.0], "TOR `bad`: minor radius 2 must be smaller than major radius 1"),
-        (Ell, &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 3.0], "ELL `bad`: major axis length 3 must exceed the distance between the foci (4)"),
-        (Sph, &[0.0, 0.0, f64::NAN, 1.0], "SPH `bad`: value 3 is not a finite number"),
+        (
+            Sph,
+            &[0.0, 0.0, 0.0, 0.0],
+            "SPH `bad`: radius must be positive (is 0)",
+        ),
+        (
+            Rcc,
+            &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+            "RCC `bad`: height vector is zero",
+        ),
+        (
+            Box,
+            &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            "BOX `bad`: edges A and B are not perpendicular",
+        ),
+        (
+            Arb4,
+            &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+            "ARB4 `bad`: the vertices span no volume (degenerate polyhedron)",
+        ),
+        (
+            Rpp,
+            &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0],
+            "RPP `bad`: xmin (1) must be less than xmax (0)",
+        ),
+        (
+            Tor,
+            &[0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 2.0],
+            "TOR `bad`: minor radius 2 must be smaller than major radius 1",
+        ),
+        (
+            Ell,
+            &[0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 3.0],
+            "ELL `bad`: major axis length 3 must exceed the distance between the foci (4)",
+        ),
+        (
+            Sph,
+            &[0.0, 0.0, f64::NAN, 1.0],
+            "SPH `bad`: value 3 is not a finite number",
+        ),
     ];
     for (kind, params, want) in cases {
         let g = Geometry {
             bodies: vec![Body::new("bad", *kind, params.to_vec())],
-            regions: vec![Region { name: "r".into(), zones: vec![Zone { terms: vec![Term { op: Op::Inside, body: 0 }] }] }],
+            regions: vec![Region {
+                name: "r".into(),
+                zones: vec![Zone {
+                    terms: vec![Term {
+                        op: Op::Inside,
+                        body: 0,
+                    }],
+                }],
+            }],
         };
         let err = Prepared::new(&g, &PrepareOptions::default()).unwrap_err();
         assert_eq!(err.to_string(), *want);
@@ -187,12 +377,21 @@ fn invalid_parameters_name_the_body_and_rule() {
 fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
     // Body 10 of the generator deck: one vertex is 0.2 off its face.
     let p = [
-        -230.5059, -152.4006, 0.0, -230.5059, -182.8807, 0.0, -230.5059, -182.8807, 30.4801, -230.5059, -152.4006, 30.4801,
-        -202.5658, -152.4006, 0.0, -202.5658, -182.8807, 0.0, -202.5658, -182.6807, 30.4801, -202.5658, -152.4006, 30.4801,
+        -230.5059, -152.4006, 0.0, -230.5059, -182.8807, 0.0, -230.5059, -182.8807, 30.4801,
+        -230.5059, -152.4006, 30.4801, -202.5658, -152.4006, 0.0, -202.5658, -182.8807, 0.0,
+        -202.5658, -182.6807, 30.4801, -202.5658, -152.4006, 30.4801,
     ];
     let g = Geometry {
         bodies: vec![Body::new("10", BodyKind::Arb8, p.to_vec())],
-        regions: vec![Region { name: "r".into(), zones: vec![Zone { terms: vec![Term { op: Op::Inside, body: 0 }] }] }],
+        regions: vec![Region {
+            name: "r".into(),
+            zones: vec![Zone {
+                terms: vec![Term {
+                    op: Op::Inside,
+                    body: 0,
+                }],
+            }],
+        }],
     };
     let (prep, warnings) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     assert!(!warnings.is_empty());
@@ -201,7 +400,11 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
         text,
         "ARB8 `10`: face 2376 is not planar (a vertex is 0.2000 off the plane of the other three); using the convex hull of the vertices"
     );
-    assert_eq!(warnings.len(), 1, "only face 2376 holds the bent vertex 7 off its plane: {warnings:?}");
+    assert_eq!(
+        warnings.len(),
+        1,
+        "only face 2376 holds the bent vertex 7 off its plane: {warnings:?}"
+    );
     let r = Ray::new(DVec3::new(-216.0, -167.0, 100.0), -DVec3::Z);
     let mut s = sv_geom::Scratch::new(&prep);
     assert!(prep.first_hit(&r, 0.0, f64::INFINITY, &mut s).is_some());

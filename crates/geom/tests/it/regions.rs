@@ -1,17 +1,27 @@
 //! Region classification: booleans of bodies along rays, the paper's
 //! Figure 3 walk-through, coincident faces and region volumes.
 
-use sv_geom::{Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Scratch, Term, Zone};
+use sv_geom::{
+    Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Scratch, Term, Zone,
+};
 use sv_math::{DVec3, Ray};
 
 fn term(op: char, body: usize) -> Term {
-    Term { op: if op == '+' { Op::Inside } else { Op::Outside }, body }
+    Term {
+        op: if op == '+' { Op::Inside } else { Op::Outside },
+        body,
+    }
 }
 
 fn region(name: &str, zones: &[&[(char, usize)]]) -> Region {
     Region {
         name: name.into(),
-        zones: zones.iter().map(|z| Zone { terms: z.iter().map(|&(o, b)| term(o, b)).collect() }).collect(),
+        zones: zones
+            .iter()
+            .map(|z| Zone {
+                terms: z.iter().map(|&(o, b)| term(o, b)).collect(),
+            })
+            .collect(),
     }
 }
 
@@ -20,7 +30,11 @@ fn figure1() -> Geometry {
     Geometry {
         bodies: vec![
             Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]),
-            Body::new("2", BodyKind::Rcc, vec![0.45, -0.2, -1.4, 0.0, 0.0, 2.8, 0.6]),
+            Body::new(
+                "2",
+                BodyKind::Rcc,
+                vec![0.45, -0.2, -1.4, 0.0, 0.0, 2.8, 0.6],
+            ),
         ],
         regions: vec![
             region("B", &[&[('+', 0)]]),
@@ -35,15 +49,32 @@ fn figure1() -> Geometry {
 /// Volume of region `r` by a grid of parallel rays along z.
 fn grid_volume(p: &Prepared, r: u32, n: usize) -> f64 {
     let b = p.bounds().padded(0.01);
-    let (dx, dy) = ((b.max.x - b.min.x) / n as f64, (b.max.y - b.min.y) / n as f64);
+    let (dx, dy) = (
+        (b.max.x - b.min.x) / n as f64,
+        (b.max.y - b.min.y) / n as f64,
+    );
     let mut s = Scratch::new(p);
     let mut parts = Vec::new();
     let mut total = 0.0;
     for i in 0..n {
         for j in 0..n {
-            let o = DVec3::new(b.min.x + (i as f64 + 0.5) * dx, b.min.y + (j as f64 + 0.5) * dy, b.min.z - 1.0);
-            p.partitions(&Ray::new(o, DVec3::Z), 0.0, f64::INFINITY, &mut s, &mut parts);
-            total += parts.iter().filter(|q| q.region == r).map(|q| q.span.len()).sum::<f64>();
+            let o = DVec3::new(
+                b.min.x + (i as f64 + 0.5) * dx,
+                b.min.y + (j as f64 + 0.5) * dy,
+                b.min.z - 1.0,
+            );
+            p.partitions(
+                &Ray::new(o, DVec3::Z),
+                0.0,
+                f64::INFINITY,
+                &mut s,
+                &mut parts,
+            );
+            total += parts
+                .iter()
+                .filter(|q| q.region == r)
+                .map(|q| q.span.len())
+                .sum::<f64>();
         }
     }
     total * dx * dy
@@ -76,7 +107,10 @@ fn sphere_minus_cylinder_volume_matches_closed_form_within_half_a_percent() {
     let sphere = 4.0 / 3.0 * std::f64::consts::PI;
     let want_d = sphere - inter;
     let got_d = grid_volume(&p, 2, 400);
-    assert!((got_d / want_d - 1.0).abs() < 0.005, "D: {got_d} vs {want_d}");
+    assert!(
+        (got_d / want_d - 1.0).abs() < 0.005,
+        "D: {got_d} vs {want_d}"
+    );
     let got_f = grid_volume(&p, 4, 400);
     assert!((got_f / inter - 1.0).abs() < 0.005, "F: {got_f} vs {inter}");
 }
@@ -87,9 +121,17 @@ fn figure3() -> Geometry {
     Geometry {
         bodies: vec![
             Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 0.0, 3.0]),
-            Body::new("2", BodyKind::Rcc, vec![-6.0, 0.0, 0.0, 12.0, 0.0, 0.0, 2.0]),
+            Body::new(
+                "2",
+                BodyKind::Rcc,
+                vec![-6.0, 0.0, 0.0, 12.0, 0.0, 0.0, 2.0],
+            ),
             Body::new("3", BodyKind::Rpp, vec![-4.0, 1.0, -1.0, 1.0, -1.0, 1.0]),
-            Body::new("4", BodyKind::Rpp, vec![-20.0, 20.0, -20.0, 20.0, -20.0, 20.0]),
+            Body::new(
+                "4",
+                BodyKind::Rpp,
+                vec![-20.0, 20.0, -20.0, 20.0, -20.0, 20.0],
+            ),
         ],
         regions: vec![
             region("A", &[&[('+', 1), ('-', 2)]]),
@@ -104,17 +146,34 @@ fn figure3() -> Geometry {
 fn figure3_walkthrough_with_camera_inside_a_transparent_region() {
     let g = figure3();
     let opaque = vec![false, false, false, true];
-    let (p, _) = Prepared::new(&g, &PrepareOptions { opaque: Some(opaque), ..Default::default() }).unwrap();
+    let (p, _) = Prepared::new(
+        &g,
+        &PrepareOptions {
+            opaque: Some(opaque),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let mut s = Scratch::new(&p);
     // Camera at P0 in region C, looking along +x through the box, sphere,
     // cylinder.
     let ray = Ray::new(DVec3::new(-10.0, 0.0, 0.0), DVec3::X);
     let c = p.crossings(&ray, 0.0, &mut s);
-    let seq: Vec<(f64, bool, &str)> = c.iter().map(|c| (c.t, c.entering, g.regions[c.region as usize].name.as_str())).collect();
+    let seq: Vec<(f64, bool, &str)> = c
+        .iter()
+        .map(|c| (c.t, c.entering, g.regions[c.region as usize].name.as_str()))
+        .collect();
     // E2 (cylinder) at x=-6 enters A; E3 (box) at x=-4 leaves A, enters B;
     // L3 at x=1 leaves B, enters A; L1 (sphere) then L2 (cylinder end).
-    let names: Vec<String> = seq.iter().map(|(t, e, r)| format!("{}{r}@{}", if *e { "+" } else { "-" }, t)).collect();
-    assert_eq!(names[..6], ["-C@4", "+A@4", "-A@6", "+B@6", "-B@11", "+A@11"], "{names:?}");
+    let names: Vec<String> = seq
+        .iter()
+        .map(|(t, e, r)| format!("{}{r}@{}", if *e { "+" } else { "-" }, t))
+        .collect();
+    assert_eq!(
+        names[..6],
+        ["-C@4", "+A@4", "-A@6", "+B@6", "-B@11", "+A@11"],
+        "{names:?}"
+    );
     // With A, B and C transparent, the ray passes through everything and
     // only the opaque sphere shell S stops it — at L1? No: S = sphere minus
     // cylinder, which this axial ray never enters.
@@ -136,17 +195,44 @@ fn body_subtracted_flush_with_a_face_leaves_no_speckles() {
             Body::new("b", BodyKind::Rpp, vec![0.2, 0.8, 0.2, 0.8, 0.5, 1.0]),
             Body::new("c", BodyKind::Sph, vec![0.5, 0.5, 1.0, 0.3]),
         ],
-        regions: vec![region("a", &[&[('+', 0), ('-', 1)]]), region("top", &[&[('+', 0), ('-', 2)]])],
+        regions: vec![
+            region("a", &[&[('+', 0), ('-', 1)]]),
+            region("top", &[&[('+', 0), ('-', 2)]]),
+        ],
     };
-    let (p, _) = Prepared::new(&g, &PrepareOptions { opaque: Some(vec![true, false]), ..Default::default() }).unwrap();
+    let (p, _) = Prepared::new(
+        &g,
+        &PrepareOptions {
+            opaque: Some(vec![true, false]),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let mut s = Scratch::new(&p);
     for i in 0..200 {
         for j in 0..200 {
-            let (x, y) = (0.2 + 0.6 * (i as f64 + 0.5) / 200.0, 0.2 + 0.6 * (j as f64 + 0.5) / 200.0);
-            let h = p.first_hit(&Ray::new(DVec3::new(x, y, 3.0), -DVec3::Z), 0.0, f64::INFINITY, &mut s).unwrap();
-            assert!((h.t - 2.5).abs() < 1e-9, "speckle at ({x}, {y}): t = {}", h.t);
+            let (x, y) = (
+                0.2 + 0.6 * (i as f64 + 0.5) / 200.0,
+                0.2 + 0.6 * (j as f64 + 0.5) / 200.0,
+            );
+            let h = p
+                .first_hit(
+                    &Ray::new(DVec3::new(x, y, 3.0), -DVec3::Z),
+                    0.0,
+                    f64::INFINITY,
+                    &mut s,
+                )
+                .unwrap();
+            assert!(
+                (h.t - 2.5).abs() < 1e-9,
+                "speckle at ({x}, {y}): t = {}",
+                h.t
+            );
             let n = p.normal(&h, &Ray::new(DVec3::new(x, y, 3.0), -DVec3::Z));
-            assert!((n - DVec3::Z).length() < 1e-12, "normal of the cut floor must face up (flipped)");
+            assert!(
+                (n - DVec3::Z).length() < 1e-12,
+                "normal of the cut floor must face up (flipped)"
+            );
         }
     }
 }
@@ -165,7 +251,13 @@ fn or_zones_union_and_region_names_resolve() {
     let (p, _) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     let mut s = Scratch::new(&p);
     let mut parts = vec![];
-    p.partitions(&Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X), 0.0, f64::INFINITY, &mut s, &mut parts);
+    p.partitions(
+        &Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X),
+        0.0,
+        f64::INFINITY,
+        &mut s,
+        &mut parts,
+    );
     let spans: Vec<(f64, f64)> = parts.iter().map(|q| (q.span.a.t, q.span.b.t)).collect();
     assert_eq!(spans, vec![(4.5, 6.0), (8.0, 9.0)]);
     assert!(p.region_contains(0, DVec3::new(3.5, 0.0, 0.0)));

@@ -20,6 +20,9 @@ pub struct PrepareOptions {
     /// Per region: does it stop light? `None` means every region does.
     /// Transparent regions are still traced by [`Prepared::partitions`].
     pub opaque: Option<Vec<bool>>,
+    /// Test every zone for every ray instead of walking the hierarchy.
+    /// Slow; results are bit-for-bit the same, which the tests check.
+    pub brute_force: bool,
 }
 
 /// Something wrong with a body that was nevertheless rendered.
@@ -193,7 +196,7 @@ impl Prepared {
         let (mut bounds, mut opaque_bounds) = (Aabb::EMPTY, Aabb::EMPTY);
         for (i, z) in zones.iter().enumerate() {
             let vis = opaque[z.region as usize];
-            if z.bounds.is_finite() {
+            if z.bounds.is_finite() && !opts.brute_force {
                 bounded_all.push((i as u32, z.bounds));
                 bounds = bounds.union(&z.bounds);
                 if vis {

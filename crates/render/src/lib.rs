@@ -69,14 +69,18 @@ impl Renderer {
     /// elevation 25°; one without lights gets a light over the viewer's
     /// shoulder.
     pub fn new(scene: &Scene, aspect: f64) -> Result<(Renderer, Vec<Warning>), PrepareError> {
-        let opaque = scene.regions.iter().map(|r| !r.transparent).collect();
-        let (prepared, warnings) = Prepared::new(
-            &scene.geometry,
-            &PrepareOptions {
-                opaque: Some(opaque),
-                ..Default::default()
-            },
-        )?;
+        Renderer::with_options(scene, aspect, PrepareOptions::default())
+    }
+
+    /// As [`Renderer::new`], with explicit prepare options (the region
+    /// opacity is always taken from the scene).
+    pub fn with_options(
+        scene: &Scene,
+        aspect: f64,
+        mut opts: PrepareOptions,
+    ) -> Result<(Renderer, Vec<Warning>), PrepareError> {
+        opts.opaque = Some(scene.regions.iter().map(|r| !r.transparent).collect());
+        let (prepared, warnings) = Prepared::new(&scene.geometry, &opts)?;
         let camera = scene
             .camera
             .unwrap_or_else(|| default_camera(&prepared, aspect, 35.0, 25.0, false));

@@ -241,6 +241,19 @@ fn body_code(s: &str) -> Option<BodyKind> {
         .map(|(_, k)| *k)
 }
 
+/// The body code a mistyped one was meant to be: one with the same letters
+/// in another order (`SHP` → `SPH`), else the closest by edit distance.
+fn suggest_code(code: &str) -> Option<&'static str> {
+    let mut letters: Vec<char> = code.to_ascii_uppercase().chars().collect();
+    letters.sort_unstable();
+    let anagram = BODY_CODES.iter().map(|(c, _)| *c).find(|c| {
+        let mut l: Vec<char> = c.chars().collect();
+        l.sort_unstable();
+        l == letters
+    });
+    anagram.or_else(|| did_you_mean(code, BODY_CODES.iter().map(|(c, _)| *c)))
+}
+
 /// The name of value `i` of a body type (`V` components become `Vx`, `Vy`, `Vz`).
 fn value_name(kind: BodyKind, i: usize) -> String {
     let mut at = 0;
@@ -326,7 +339,7 @@ impl Reader {
     fn run(&mut self) {
         let n = self.lines.len();
         let mut free = false;
-        let mut geo: Option<(usize, usize, bool)> = None;
+        let mut geo: Option<(usize, usize)> = None;
         let mut seen_geobegin = false;
         let mut i = 0;
         while i < n {
@@ -346,14 +359,13 @@ impl Reader {
                 }
                 "FREE" => free = true,
                 "FIXED" => free = false,
-                "GLOBAL" => {
+                "GLOBAL"
                     if c.what[3]
                         .as_ref()
                         .and_then(|f| card::number(&f.text))
-                        .is_some_and(|v| v >= 2.0)
-                    {
-                        free = true;
-                    }
+                        .is_some_and(|v| v >= 2.0) =>
+                {
+                    free = true
                 }
                 "GEOBEGIN" => {
                     if seen_geobegin {
@@ -373,10 +385,7 @@ impl Reader {
                         break;
                     };
                     let ok = self.check_geobegin(i, &c);
-                    geo = Some((i, end, ok && free == free));
-                    if !ok {
-                        geo = None;
-                    }
+                    geo = ok.then_some((i, end));
                     i = end + 1;
                     continue;
                 }
@@ -396,7 +405,7 @@ impl Reader {
             );
             return;
         }
-        if let Some((begin, end, _)) = geo {
+        if let Some((begin, end)) = geo {
             self.geometry(begin, end, free);
         }
     }
@@ -780,8 +789,7 @@ impl Reader {
         let (line, col, code) = (p.words[0].0, p.words[0].1, p.words[0].2.as_str());
         let code_len = code.chars().count();
         let Some(kind) = body_code(code) else {
-            let hint = did_you_mean(code, BODY_CODES.iter().map(|(c, _)| *c))
-                .map(|s| format!("did you mean `{s}`?"));
+            let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
             self.err(line, col, code_len, format!("unknown body type `{code}`"))
                 .hint = hint;
             if let Some((_, _, name)) = p.words.get(1) {
@@ -1077,7 +1085,7 @@ impl Reader {
         let material = match &c.what[0] {
             Some(f) => match card::number(&f.text) {
                 Some(v) if v <= 1.0 => "BLCKHOLE".to_string(),
-                Some(v) if v == 2.0 => "VACUUM".to_string(),
+                Some(2.0) => "VACUUM".to_string(),
                 Some(v) => format!("material #{v}"),
                 None => f.text.clone(),
             },

@@ -221,7 +221,8 @@ impl Pre {
                     }
                 },
                 "endif" => {
-                    if stack.pop().is_none() {
+                    let closed = stack.pop().is_some();
+                    if !closed {
                         self.err(file, line_no, col, 6, "`#endif` without `#if`");
                     }
                 }

@@ -1156,3 +1156,66 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn errors_past_the_limit_are_counted() {
+    let bodies: String = (0..150).map(|i| format!("SHP s{i} 0 0 0 1\n")).collect();
+    let e = read_text(&geo(&bodies, "r 5 +s0")).unwrap_err();
+    assert_eq!(e.items.len(), fluka::MAX_ERRORS + 1);
+    assert_eq!(e.items.last().unwrap().message, "… and 50 more errors");
+}
+
+#[test]
+fn values_driven_out_of_range_by_directives_are_errors() {
+    let text = geo(
+        "$start_expansion 1e100\nSPH big 0 0 0 1e300\n$end_expansion",
+        "r 5 +big",
+    );
+    assert_eq!(
+        errors(&text),
+        [(
+            6,
+            1,
+            "body `big` has a value out of range after its transformation".to_string()
+        )]
+    );
+    let text = geo(
+        "$start_expansion 1e200\n$start_expansion 1e200\nSPH big 0 0 0 1\n$end_expansion\n$end_expansion",
+        "r 5 +big",
+    );
+    assert_eq!(
+        errors(&text),
+        [(
+            7,
+            1,
+            "the directives around body `big` make a transformation out of range".to_string()
+        )]
+    );
+}
+
+#[test]
+fn free_format_cards_after_free() {
+    let text = "FREE\nTITLE\nfree cards\nGEOBEGIN COMBNAME\n0 0 geometry\nSPH a 0 0 0 1\nRPP w -2 2 -2 2 -2 2\nEND\nvoid 5 +w -a\nball 5 +a\nEND\nGEOEND\nASSIGNMA BLCKHOLE void\nASSIGNMA LEAD ball\nROT-DEFI 100 0 90 0 0 0 unused\n";
+    let l = read_text(text).unwrap();
+    assert_eq!(l.scene.title, "free cards");
+    assert!(l.scene.regions[0].transparent);
+    assert_eq!(l.scene.regions[1].description, "material: LEAD");
+}
+
+#[test]
+fn lattice_ranges_cover_every_region_between() {
+    let text = geo(
+        "SPH a 0 0 0 1\nSPH b 0 0 0 2\nSPH c 0 0 0 3",
+        "r1 5 +a\nr2 5 +b -a\nr3 5 +c -b",
+    )
+    .replace("END\nGEOEND", "END\nLATTICE   , r1, r3, , , , , t\nGEOEND");
+    let l = read_text(&text).unwrap();
+    assert_eq!(
+        l.scene.notes.last().unwrap(),
+        "LATTICE replicas are not drawn: lattice cell regions r1, r2, r3 are drawn as their container bodies only"
+    );
+    assert_eq!(
+        l.warnings[0].message,
+        "LATTICE transformation `t` has no ROT-DEFI card"
+    );
+}

@@ -118,9 +118,13 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         regions: Vec::new(),
         region_index: HashMap::new(),
         lattices: Vec::new(),
+        expander: region::Expander::default(),
+        assign_budget: 10_000_000,
+        suppressed: pre.suppressed,
+        sink: Diagnostic::error(src, 0, 0, ""),
     };
     r.run();
-    if !r.errors.is_empty() {
+    if !r.errors.is_empty() || r.suppressed > 0 {
         let files: HashMap<String, usize> = r
             .files
             .iter()
@@ -129,6 +133,18 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
             .collect();
         r.errors
             .sort_by_key(|d| (files.get(&d.source.name).copied().unwrap_or(0), d.offset));
+        if r.suppressed > 0 {
+            let last = r.errors.last().cloned().unwrap_or_else(|| r.sink.clone());
+            r.errors.push(Diagnostic {
+                message: format!(
+                    "… and {} more error{}",
+                    r.suppressed,
+                    if r.suppressed == 1 { "" } else { "s" }
+                ),
+                hint: None,
+                ..last
+            });
+        }
         return Err(Diagnostics { items: r.errors });
     }
     Ok(Loaded {
@@ -190,7 +206,17 @@ struct Reader {
     region_index: HashMap<String, usize>,
     /// Lattice container regions (indices), with the card's line.
     lattices: Vec<(usize, usize)>,
+    expander: region::Expander,
+    /// Region assignments ASSIGNMA ranges may still make (bounds the work).
+    assign_budget: usize,
+    /// Errors past [`MAX_ERRORS`]: counted, not kept.
+    suppressed: usize,
+    /// Where suppressed errors are written.
+    sink: Diagnostic,
 }
+
+/// Most errors listed for one input; the rest are counted.
+pub const MAX_ERRORS: usize = 100;
 
 /// The text of a line without its comment: `*` in column 1 makes the whole
 /// line a comment, `!` starts one.
@@ -324,6 +350,10 @@ impl Reader {
         len: usize,
         msg: impl Into<String>,
     ) -> &mut Diagnostic {
+        if self.errors.len() >= MAX_ERRORS {
+            self.suppressed += 1;
+            return &mut self.sink;
+        }
         let l = &self.lines[line];
         let d = Diagnostic::error_at(&self.files[l.file], l.line, col, len, msg);
         self.errors.push(d);
@@ -331,6 +361,9 @@ impl Reader {
     }
 
     fn warn(&mut self, line: usize, col: usize, len: usize, msg: impl Into<String>) {
+        if self.warnings.len() >= MAX_ERRORS {
+            return;
+        }
         let l = &self.lines[line];
         self.warnings
             .push(Diagnostic::error_at(&self.files[l.file], l.line, col, len, msg).warning());
@@ -420,8 +453,13 @@ impl Reader {
                 return false;
             }
         }
-        let sdum = c.sdum.as_ref().map(|f| f.text.to_ascii_uppercase());
-        if sdum.as_deref() == Some("COMBNAME") {
+        // COMBNAME belongs in SDUM; a free-format card that leaves out the
+        // blank WHATs puts it in an earlier field, which is accepted too.
+        if c.sdum
+            .iter()
+            .chain(c.what.iter().flatten())
+            .any(|f| f.text.eq_ignore_ascii_case("COMBNAME"))
+        {
             return true;
         }
         let (col, len, shown) = match &c.sdum {
@@ -549,7 +587,21 @@ impl Reader {
             return;
         };
         match self.region_index.get(&cell.text) {
-            Some(&r) => self.lattices.push((r, i)),
+            Some(&r) => {
+                // WHAT(2) and WHAT(3) may extend it to a range of regions.
+                let last = c.what[1]
+                    .as_ref()
+                    .and_then(|f| self.region_index.get(&f.text))
+                    .copied()
+                    .unwrap_or(r);
+                let step = c.what[2]
+                    .as_ref()
+                    .and_then(|f| card::number(&f.text))
+                    .filter(|v| *v >= 1.0)
+                    .map_or(1, |v| v.min(1e9) as usize);
+                self.lattices
+                    .extend((r..=last).step_by(step).map(|k| (k, i)));
+            }
             None => {
                 let (col, len, name) = (cell.col, cell.len(), cell.text.clone());
                 let hint = did_you_mean(&name, self.region_index.keys().map(String::as_str))
@@ -874,6 +926,19 @@ impl Reader {
                 }
             }
             let xf = r * DAffine3::from_translation(t) * DAffine3::from_scale(DVec3::splat(e));
+            let det = xf.matrix3.determinant();
+            if !(xf.is_finite() && det.is_finite() && det > 0.0) {
+                self.err(
+                    line,
+                    col,
+                    code_len,
+                    format!(
+                        "the directives around body `{name}` make a transformation out of range"
+                    ),
+                );
+                self.bad_bodies.insert(name.to_string());
+                return;
+            }
             match body.transformed(&xf) {
                 Ok(b) => body = b,
                 Err(err) => {
@@ -887,6 +952,16 @@ impl Reader {
                     return;
                 }
             }
+        }
+        if body.params.iter().any(|v| !v.is_finite()) {
+            self.err(
+                line,
+                col,
+                code_len,
+                format!("body `{name}` has a value out of range after its transformation"),
+            );
+            self.bad_bodies.insert(name.to_string());
+            return;
         }
         self.body_index.insert(name.to_string(), self.bodies.len());
         self.bodies.push(body);
@@ -1002,9 +1077,9 @@ impl Reader {
         }
         self.region_index.insert(name.clone(), self.regions.len());
         let zones = if ok && missing.is_empty() {
-            match region::to_zones(&parsed) {
+            match self.expander.zones(&parsed) {
                 Ok(z) => z,
-                Err(region::TooBig) => {
+                Err(region::TooBig::Zones) => {
                     self.err(
                         line,
                         col,
@@ -1012,6 +1087,16 @@ impl Reader {
                         format!("region `{name}` expands to more than {MAX_ZONES} zones"),
                     )
                     .hint = Some("split the region or use fewer nested `-( … )` groups".into());
+                    Vec::new()
+                }
+                Err(region::TooBig::Work) => {
+                    self.err(
+                        line,
+                        col,
+                        name_len,
+                        format!("region `{name}` is too large to expand into zones"),
+                    )
+                    .hint = Some("split the region or use fewer parenthesised groups".into());
                     Vec::new()
                 }
             }
@@ -1127,7 +1212,8 @@ impl Reader {
             .filter(|v| *v >= 1.0)
             .map_or(1, |v| v.min(1e9) as usize);
         let mut r = first;
-        while r <= last && r < props.len() {
+        while r <= last && r < props.len() && self.assign_budget > 0 {
+            self.assign_budget -= 1;
             let p = &mut props[r];
             p.description = format!("material: {material}");
             p.transparent = material == "BLCKHOLE";

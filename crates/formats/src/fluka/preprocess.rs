@@ -36,6 +36,8 @@ pub(crate) struct Output {
     pub lines: Vec<Line>,
     /// Errors.
     pub errors: Vec<Diagnostic>,
+    /// Errors past [`super::MAX_ERRORS`], counted only.
+    pub suppressed: usize,
 }
 
 const DIRECTIVES: [&str; 9] = [
@@ -80,6 +82,8 @@ pub(crate) fn run(src: &SourceFile) -> Output {
 }
 
 impl Pre {
+    /// Record an error; `None` once [`super::MAX_ERRORS`] are kept (it is
+    /// then only counted).
     fn err(
         &mut self,
         file: usize,
@@ -87,10 +91,14 @@ impl Pre {
         col: usize,
         len: usize,
         msg: impl Into<String>,
-    ) -> &mut Diagnostic {
+    ) -> Option<&mut Diagnostic> {
+        if self.out.errors.len() >= super::MAX_ERRORS {
+            self.out.suppressed += 1;
+            return None;
+        }
         let d = Diagnostic::error_at(&self.out.files[file], line, col, len, msg);
         self.out.errors.push(d);
-        self.out.errors.last_mut().expect("just pushed")
+        self.out.errors.last_mut()
     }
 
     fn file(&mut self, file: usize, depth: usize, chain: &mut Vec<PathBuf>) {
@@ -211,8 +219,12 @@ impl Pre {
                     }
                     Some(f) if f.seen_else => {
                         let first = f.line;
-                        self.err(file, line_no, col, 5, "second `#else` for the same `#if`")
-                            .hint = Some(format!("the `#if` is on line {first}"));
+                        let hint = format!("the `#if` is on line {first}");
+                        if let Some(d) =
+                            self.err(file, line_no, col, 5, "second `#else` for the same `#if`")
+                        {
+                            d.hint = Some(hint);
+                        }
                     }
                     Some(f) => {
                         f.taking = !f.taken;
@@ -248,7 +260,7 @@ impl Pre {
                         shown.chars().count(),
                         format!("unknown preprocessor directive `{shown}`"),
                     );
-                    if let Some(s) = did_you_mean(&word, DIRECTIVES) {
+                    if let (Some(d), Some(s)) = (d, did_you_mean(&word, DIRECTIVES)) {
                         d.hint = Some(format!("did you mean `#{s}`?"));
                     }
                 }

@@ -16,8 +16,6 @@ use sv_geom::{Op, Term, Zone};
 
 /// Most zones a region may expand to.
 pub const MAX_ZONES: usize = 100_000;
-/// Most terms, summed over the zones, a region may expand to.
-pub(crate) const MAX_TERMS: usize = 5_000_000;
 /// Deepest parenthesis nesting accepted.
 pub const MAX_DEPTH: usize = 64;
 
@@ -218,9 +216,29 @@ impl<'a, F: FnMut(&Spanned) -> Option<usize>> Parser<'a, F> {
 
 /// The expansion was too large.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct TooBig;
+pub(crate) enum TooBig {
+    /// More than [`MAX_ZONES`] zones.
+    Zones,
+    /// More than the work budget (terms copied while expanding).
+    Work,
+}
 
 type Dnf = Vec<Vec<Term>>;
+
+/// Expansion state: the work left (terms written, summed over every
+/// product), so no input can keep the expansion busy for long.
+pub(crate) struct Expander {
+    budget: usize,
+}
+
+impl Default for Expander {
+    fn default() -> Self {
+        Expander { budget: MAX_WORK }
+    }
+}
+
+/// Terms the expansion of all regions of one input may write.
+pub(crate) const MAX_WORK: usize = 50_000_000;
 
 fn term(outside: bool, body: usize) -> Term {
     Term {
@@ -229,99 +247,122 @@ fn term(outside: bool, body: usize) -> Term {
     }
 }
 
-/// Concatenate two zones; `None` if the result holds a body both ways.
+/// Append `b` to zone `a`, skipping repeated terms; `None` if the result
+/// holds a body both with `+` and `-` (an empty zone).
 fn join(a: &[Term], b: &[Term]) -> Option<Vec<Term>> {
     let mut z = a.to_vec();
-    for t in b {
-        if z.iter().any(|u| u.body == t.body && u.op != t.op) {
-            return None;
+    if a.len().saturating_mul(b.len()) <= 256 {
+        for t in b {
+            if z.iter().any(|u| u.body == t.body && u.op != t.op) {
+                return None;
+            }
+            if !z.contains(t) {
+                z.push(*t);
+            }
         }
-        if !z.contains(t) {
-            z.push(*t);
+        return Some(z);
+    }
+    let mut seen: std::collections::HashMap<usize, Op> = a.iter().map(|t| (t.body, t.op)).collect();
+    for t in b {
+        match seen.get(&t.body) {
+            Some(op) if *op != t.op => return None,
+            Some(_) => {}
+            None => {
+                seen.insert(t.body, t.op);
+                z.push(*t);
+            }
         }
     }
     Some(z)
 }
 
-fn product(a: &Dnf, b: &Dnf) -> Result<Dnf, TooBig> {
-    if a.len().saturating_mul(b.len()) > MAX_ZONES {
-        return Err(TooBig);
+impl Expander {
+    fn spend(&mut self, n: usize) -> Result<(), TooBig> {
+        self.budget = self.budget.checked_sub(n).ok_or(TooBig::Work)?;
+        Ok(())
     }
-    let mut out = Vec::with_capacity(a.len() * b.len());
-    let mut terms = 0usize;
-    for x in a {
-        for y in b {
-            if let Some(z) = join(x, y) {
-                terms += z.len();
-                if terms > MAX_TERMS {
-                    return Err(TooBig);
+
+    fn product(&mut self, a: &Dnf, b: &Dnf) -> Result<Dnf, TooBig> {
+        if a.len().saturating_mul(b.len()) > MAX_ZONES {
+            return Err(TooBig::Zones);
+        }
+        let mut out = Vec::with_capacity(a.len() * b.len());
+        for x in a {
+            for y in b {
+                self.spend(x.len() + y.len() + 1)?;
+                if let Some(z) = join(x, y) {
+                    out.push(z);
                 }
-                out.push(z);
             }
         }
+        Ok(out)
     }
-    Ok(out)
-}
 
-fn negate(d: &Dnf) -> Result<Dnf, TooBig> {
-    // not (Z1 or Z2 …) = (not Z1) and (not Z2) …, and not Zi is the union of
-    // its negated terms.
-    let mut acc: Dnf = vec![Vec::new()];
-    for zone in d {
-        let alt: Dnf = zone
-            .iter()
-            .map(|t| {
-                vec![Term {
-                    op: if t.op == Op::Inside {
-                        Op::Outside
-                    } else {
-                        Op::Inside
-                    },
-                    body: t.body,
-                }]
-            })
-            .collect();
-        acc = product(&acc, &alt)?;
-    }
-    Ok(acc)
-}
-
-fn union_dnf(u: &[Vec<Factor>]) -> Result<Dnf, TooBig> {
-    let mut out = Vec::new();
-    for zone in u {
+    fn negate(&mut self, d: &Dnf) -> Result<Dnf, TooBig> {
+        // not (Z1 or Z2 …) = (not Z1) and (not Z2) …, and not Zi is the
+        // union of its negated terms.
         let mut acc: Dnf = vec![Vec::new()];
-        for f in zone {
-            let d = match f {
-                Factor::Body {
-                    outside,
-                    body: Some(b),
-                } => vec![vec![term(*outside, *b)]],
-                Factor::Body { body: None, .. } => vec![Vec::new()],
-                Factor::Group { outside, inner } => {
-                    let d = union_dnf(inner)?;
-                    if *outside {
-                        negate(&d)?
-                    } else {
-                        d
+        for zone in d {
+            let alt: Dnf = zone
+                .iter()
+                .map(|t| {
+                    vec![Term {
+                        op: if t.op == Op::Inside {
+                            Op::Outside
+                        } else {
+                            Op::Inside
+                        },
+                        body: t.body,
+                    }]
+                })
+                .collect();
+            acc = self.product(&acc, &alt)?;
+        }
+        Ok(acc)
+    }
+
+    fn union(&mut self, u: &[Vec<Factor>]) -> Result<Dnf, TooBig> {
+        let mut out = Vec::new();
+        for zone in u {
+            let mut acc: Dnf = vec![Vec::new()];
+            // Runs of plain body terms are joined in one step.
+            let mut run: Vec<Term> = Vec::new();
+            for f in zone {
+                match f {
+                    Factor::Body {
+                        outside,
+                        body: Some(b),
+                    } => run.push(term(*outside, *b)),
+                    Factor::Body { body: None, .. } => {}
+                    Factor::Group { outside, inner } => {
+                        if !run.is_empty() {
+                            acc = self.product(&acc, &vec![std::mem::take(&mut run)])?;
+                        }
+                        let d = self.union(inner)?;
+                        let d = if *outside { self.negate(&d)? } else { d };
+                        acc = self.product(&acc, &d)?;
                     }
                 }
-            };
-            acc = product(&acc, &d)?;
+            }
+            if !run.is_empty() {
+                acc = self.product(&acc, &vec![run])?;
+            }
+            out.extend(acc);
+            if out.len() > MAX_ZONES {
+                return Err(TooBig::Zones);
+            }
         }
-        out.extend(acc);
-        if out.len() > MAX_ZONES {
-            return Err(TooBig);
-        }
+        Ok(out)
     }
-    Ok(out)
-}
 
-/// The union of zones equivalent to a parsed expression.
-pub(crate) fn to_zones(u: &[Vec<Factor>]) -> Result<Vec<Zone>, TooBig> {
-    Ok(union_dnf(u)?
-        .into_iter()
-        .map(|terms| Zone { terms })
-        .collect())
+    /// The union of zones equivalent to a parsed expression.
+    pub(crate) fn zones(&mut self, u: &[Vec<Factor>]) -> Result<Vec<Zone>, TooBig> {
+        Ok(self
+            .union(u)?
+            .into_iter()
+            .map(|terms| Zone { terms })
+            .collect())
+    }
 }
 
 #[cfg(test)]
@@ -338,7 +379,8 @@ mod tests {
         })
         .parse()
         .map_err(|e| e.message)?;
-        Ok(to_zones(&u)
+        Ok(Expander::default()
+            .zones(&u)
             .map_err(|_| "too big".to_string())?
             .iter()
             .map(|z| {
@@ -396,6 +438,51 @@ mod tests {
     }
 
     #[test]
+    fn long_zones_join_in_linear_time() {
+        let n = 200_000;
+        let u = vec![(0..n)
+            .map(|b| Factor::Body {
+                outside: b % 2 == 1,
+                body: Some(b),
+            })
+            .collect::<Vec<_>>()];
+        let z = Expander::default().zones(&u).unwrap();
+        assert_eq!(z.len(), 1);
+        assert_eq!(z[0].terms.len(), n);
+        // A contradiction far apart still empties the zone.
+        let mut f = u[0].clone();
+        f.push(Factor::Group {
+            outside: true,
+            inner: vec![vec![Factor::Body {
+                outside: false,
+                body: Some(n - 1),
+            }]],
+        });
+        assert!(Expander::default().zones(&[f]).unwrap().is_empty());
+    }
+
+    #[test]
+    fn work_is_bounded() {
+        // Many one-term groups after a long run: each product copies the run.
+        let mut f: Vec<Factor> = (0..10_000)
+            .map(|b| Factor::Body {
+                outside: false,
+                body: Some(b),
+            })
+            .collect();
+        for b in 0..10_000 {
+            f.push(Factor::Group {
+                outside: false,
+                inner: vec![vec![Factor::Body {
+                    outside: false,
+                    body: Some(20_000 + b),
+                }]],
+            });
+        }
+        assert_eq!(Expander::default().zones(&[f]).unwrap_err(), TooBig::Work);
+    }
+
+    #[test]
     fn blow_up_is_capped() {
         // (a|b)^20 would be a million zones.
         let e = "(+a | +b) ".repeat(20).replace('b', "c");
@@ -408,6 +495,6 @@ mod tests {
         })
         .parse()
         .unwrap();
-        assert_eq!(to_zones(&u).unwrap_err(), TooBig);
+        assert_eq!(Expander::default().zones(&u).unwrap_err(), TooBig::Zones);
     }
 }

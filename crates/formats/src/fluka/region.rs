@@ -238,7 +238,7 @@ impl Default for Expander {
 }
 
 /// Terms the expansion of all regions of one input may write.
-pub(crate) const MAX_WORK: usize = 50_000_000;
+pub(crate) const MAX_WORK: usize = 20_000_000;
 
 fn term(outside: bool, body: usize) -> Term {
     Term {
@@ -251,7 +251,7 @@ fn term(outside: bool, body: usize) -> Term {
 /// holds a body both with `+` and `-` (an empty zone).
 fn join(a: &[Term], b: &[Term]) -> Option<Vec<Term>> {
     let mut z = a.to_vec();
-    if a.len().saturating_mul(b.len()) <= 256 {
+    if a.len() + b.len() <= 32 {
         for t in b {
             if z.iter().any(|u| u.body == t.body && u.op != t.op) {
                 return None;
@@ -452,7 +452,7 @@ mod tests {
         // A contradiction far apart still empties the zone.
         let mut f = u[0].clone();
         f.push(Factor::Group {
-            outside: true,
+            outside: false,
             inner: vec![vec![Factor::Body {
                 outside: false,
                 body: Some(n - 1),

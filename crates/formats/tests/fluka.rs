@@ -1219,3 +1219,27 @@ fn lattice_ranges_cover_every_region_between() {
         "LATTICE transformation `t` has no ROT-DEFI card"
     );
 }
+
+#[test]
+fn large_inputs_stay_cheap() {
+    // 20 000 bodies, regions and ASSIGNMA ranges, and 20 000 references to
+    // missing bodies (only the first errors are kept, without hints).
+    let n = 20_000;
+    let bodies: String = (0..n).map(|i| format!("SPH b{i} 0 0 0 {}\n", i + 1)).collect();
+    let regions: String = (0..n).map(|i| format!("r{i} 5 +b{i} -missing{i}\n")).collect();
+    let mut text = geo(&bodies, &regions);
+    for _ in 0..100 {
+        text.push_str(&format!("ASSIGNMA  , LEAD, r0, r{}\n", n - 1));
+    }
+    let e = read_text(&text).unwrap_err();
+    assert_eq!(e.items.len(), fluka::MAX_ERRORS + 1);
+    assert_eq!(e.items[0].hint, None);
+    let fine: String = (0..n).map(|i| format!("r{i} 5 +b{i}\n")).collect();
+    let mut text = geo(&bodies, &fine);
+    for _ in 0..100 {
+        text.push_str(&format!("ASSIGNMA  , LEAD, r0, r{}\n", n - 1));
+    }
+    let l = read_text(&text).unwrap();
+    assert_eq!(l.scene.geometry.regions.len(), n);
+    assert!(l.scene.regions.iter().all(|p| p.description == "material: LEAD"));
+}

@@ -101,11 +101,13 @@ const DIRECTIVES: [&str; 6] = [
 /// Read the geometry of a FLUKA input. `#include`d files are read relative
 /// to the directory of `src.name`.
 pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics> {
-    let pre = preprocess::run(src);
+    let mut pre = preprocess::run(src);
+    let lines = std::mem::take(&mut pre.lines);
+    let errors = std::mem::take(&mut pre.errors);
+    let suppressed = pre.suppressed;
     let mut r = Reader {
-        files: pre.files,
-        lines: pre.lines,
-        errors: pre.errors,
+        lines,
+        errors,
         warnings: Vec::new(),
         rot: HashMap::new(),
         rot_index: HashMap::new(),
@@ -120,12 +122,15 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         lattices: Vec::new(),
         expander: region::Expander::default(),
         assign_budget: 10_000_000,
-        suppressed: pre.suppressed,
+        hints_left: std::cell::Cell::new(5),
+        suppressed,
         sink: Diagnostic::error(src, 0, 0, ""),
+        out: pre,
     };
     r.run();
     if !r.errors.is_empty() || r.suppressed > 0 {
         let files: HashMap<String, usize> = r
+            .out
             .files
             .iter()
             .enumerate()
@@ -187,7 +192,8 @@ struct PendingBody {
 }
 
 struct Reader {
-    files: Vec<SourceFile>,
+    /// The files read and their line tables.
+    out: preprocess::Output,
     lines: Vec<Line>,
     errors: Vec<Diagnostic>,
     warnings: Vec<Diagnostic>,
@@ -207,6 +213,8 @@ struct Reader {
     /// Lattice container regions (indices), with the card's line.
     lattices: Vec<(usize, usize)>,
     expander: region::Expander,
+    /// How many more "did you mean" hints may be worked out.
+    hints_left: std::cell::Cell<usize>,
     /// Region assignments ASSIGNMA ranges may still make (bounds the work).
     assign_budget: usize,
     /// Errors past [`MAX_ERRORS`]: counted, not kept.
@@ -355,9 +363,34 @@ impl Reader {
             return &mut self.sink;
         }
         let l = &self.lines[line];
-        let d = Diagnostic::error_at(&self.files[l.file], l.line, col, len, msg);
+        let d = self.out.error(l.file, l.line, col, len, msg);
         self.errors.push(d);
         self.errors.last_mut().expect("just pushed")
+    }
+
+    /// "did you mean …?" for a mistyped name among `names`. Only the first
+    /// few errors get one, and only names of about the same length are
+    /// compared, so an input with many bad names stays cheap to check.
+    fn hint_among<'a>(
+        &self,
+        word: &str,
+        names: impl Iterator<Item = &'a String>,
+    ) -> Option<String> {
+        if self.hints_left.get() == 0 || self.full() {
+            return None;
+        }
+        self.hints_left.set(self.hints_left.get() - 1);
+        let n = word.chars().count();
+        let near = names
+            .map(String::as_str)
+            .filter(|c| c.chars().count().abs_diff(n) <= n / 3 + 2);
+        did_you_mean(word, near).map(|s| format!("did you mean `{s}`?"))
+    }
+
+    /// True once [`MAX_ERRORS`] errors are kept (hints are then not
+    /// worked out).
+    fn full(&self) -> bool {
+        self.errors.len() >= MAX_ERRORS
     }
 
     fn warn(&mut self, line: usize, col: usize, len: usize, msg: impl Into<String>) {
@@ -366,7 +399,7 @@ impl Reader {
         }
         let l = &self.lines[line];
         self.warnings
-            .push(Diagnostic::error_at(&self.files[l.file], l.line, col, len, msg).warning());
+            .push(self.out.error(l.file, l.line, col, len, msg).warning());
     }
 
     fn run(&mut self) {
@@ -429,7 +462,7 @@ impl Reader {
             i += 1;
         }
         if !seen_geobegin {
-            let src = self.files[0].clone();
+            let src = self.out.files[0].clone();
             self.errors.push(
                 Diagnostic::error(&src, 0, 0, "no GEOBEGIN card: this input has no geometry")
                     .with_hint(
@@ -604,8 +637,7 @@ impl Reader {
             }
             None => {
                 let (col, len, name) = (cell.col, cell.len(), cell.text.clone());
-                let hint = did_you_mean(&name, self.region_index.keys().map(String::as_str))
-                    .map(|s| format!("did you mean `{s}`?"));
+                let hint = self.hint_among(&name, self.region_index.keys());
                 let d = self.err(
                     i,
                     col,
@@ -817,8 +849,7 @@ impl Reader {
                         d.xf = if inverse { xf.inverse() } else { xf };
                     }
                     None => {
-                        let hint = did_you_mean(name, self.rot.keys().map(String::as_str))
-                            .map(|s| format!("did you mean `{s}`?"));
+                        let hint = self.hint_among(name, self.rot.keys());
                         let e = self.err(
                             k,
                             c,
@@ -1041,8 +1072,7 @@ impl Reader {
         let mut ok = true;
         for t in &missing {
             let Tok::Name(b) = &t.tok else { continue };
-            let hint = did_you_mean(b, self.body_index.keys().map(String::as_str))
-                .map(|s| format!("did you mean `{s}`?"));
+            let hint = self.hint_among(b, self.body_index.keys());
             self.err(
                 t.line,
                 t.col,
@@ -1137,10 +1167,10 @@ impl Reader {
         }
         if !self.lattices.is_empty() {
             let mut names: Vec<&str> = Vec::new();
+            let mut seen = HashSet::new();
             for (r, _) in &self.lattices {
-                let n = scene.geometry.regions[*r].name.as_str();
-                if !names.contains(&n) {
-                    names.push(n);
+                if seen.insert(*r) {
+                    names.push(scene.geometry.regions[*r].name.as_str());
                 }
             }
             scene.notes.push(format!(

@@ -38,6 +38,46 @@ pub(crate) struct Output {
     pub errors: Vec<Diagnostic>,
     /// Errors past [`super::MAX_ERRORS`], counted only.
     pub suppressed: usize,
+    /// Byte offset of each line start, per file (see [`span`]).
+    pub starts: Vec<Vec<usize>>,
+}
+
+impl Output {
+    fn push_file(&mut self, f: SourceFile) {
+        let starts = std::iter::once(0)
+            .chain(f.text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        self.starts.push(starts);
+        self.files.push(f);
+    }
+
+    /// An error at 1-based `line` and character `col` of file `file`,
+    /// `len` characters long; found through the line table, so reporting
+    /// costs no more than the length of the line.
+    pub fn error(
+        &self,
+        file: usize,
+        line: usize,
+        col: usize,
+        len: usize,
+        msg: impl Into<String>,
+    ) -> Diagnostic {
+        let src = &self.files[file];
+        let starts = &self.starts[file];
+        let start = starts
+            .get(line.saturating_sub(1))
+            .copied()
+            .unwrap_or(src.text.len());
+        let stop = starts.get(line).copied().unwrap_or(src.text.len());
+        let text = &src.text[start..stop];
+        let at = |c: usize| {
+            text.char_indices()
+                .nth(c.saturating_sub(1))
+                .map_or(text.len(), |(b, _)| b)
+        };
+        let (a, b) = (at(col), at(col + len));
+        Diagnostic::error(src, start + a, b.max(a) - a, msg)
+    }
 }
 
 const DIRECTIVES: [&str; 9] = [
@@ -72,7 +112,7 @@ pub(crate) fn run(src: &SourceFile) -> Output {
         bytes: 0,
         too_large: false,
     };
-    p.out.files.push(src.clone());
+    p.out.push_file(src.clone());
     let mut chain = Vec::new();
     if let Ok(c) = std::fs::canonicalize(&src.name) {
         chain.push(c);
@@ -96,7 +136,7 @@ impl Pre {
             self.out.suppressed += 1;
             return None;
         }
-        let d = Diagnostic::error_at(&self.out.files[file], line, col, len, msg);
+        let d = self.out.error(file, line, col, len, msg);
         self.out.errors.push(d);
         self.out.errors.last_mut()
     }
@@ -335,8 +375,7 @@ impl Pre {
             }
         };
         self.out
-            .files
-            .push(SourceFile::new(path.display().to_string(), text));
+            .push_file(SourceFile::new(path.display().to_string(), text));
         let idx = self.out.files.len() - 1;
         chain.push(canon);
         self.file(idx, depth + 1, chain);

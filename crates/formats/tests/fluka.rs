@@ -1139,7 +1139,12 @@ fn apply(text: &str, edits: &[Edit]) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    // 400 cases by default; PROPTEST_CASES=N runs more.
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(400),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn mutated_inputs_never_panic(pick in any::<usize>(), edits in prop::collection::vec(edit(), 1..8)) {
@@ -1225,8 +1230,12 @@ fn large_inputs_stay_cheap() {
     // 20 000 bodies, regions and ASSIGNMA ranges, and 20 000 references to
     // missing bodies (only the first errors are kept, without hints).
     let n = 20_000;
-    let bodies: String = (0..n).map(|i| format!("SPH b{i} 0 0 0 {}\n", i + 1)).collect();
-    let regions: String = (0..n).map(|i| format!("r{i} 5 +b{i} -missing{i}\n")).collect();
+    let bodies: String = (0..n)
+        .map(|i| format!("SPH b{i} 0 0 0 {}\n", i + 1))
+        .collect();
+    let regions: String = (0..n)
+        .map(|i| format!("r{i} 5 +b{i} -missing{i}\n"))
+        .collect();
     let mut text = geo(&bodies, &regions);
     for _ in 0..100 {
         text.push_str(&format!("ASSIGNMA  , LEAD, r0, r{}\n", n - 1));
@@ -1241,5 +1250,24 @@ fn large_inputs_stay_cheap() {
     }
     let l = read_text(&text).unwrap();
     assert_eq!(l.scene.geometry.regions.len(), n);
-    assert!(l.scene.regions.iter().all(|p| p.description == "material: LEAD"));
+    assert!(l
+        .scene
+        .regions
+        .iter()
+        .all(|p| p.description == "material: LEAD"));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(400),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn arbitrary_geometry_text_never_panics(text in "([ -~\t]{0,30}\n){0,30}") {
+        let input = format!("GEOBEGIN                                                              COMBNAME\n{text}");
+        let _ = read_text(&input);
+        let _ = read_text(&format!("{input}\nEND\nr 5 +a\nEND\nGEOEND\n"));
+    }
 }

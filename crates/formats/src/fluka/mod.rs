@@ -6,7 +6,7 @@
 //!
 //! * `TITLE` gives the scene title (else the geometry title line does);
 //! * `ROT-DEFI` cards (anywhere in the input) define the roto-translations
-//!   used by `$start_transform` (see the `rotdefi` module for the convention);
+//!   used by `$start_transform` (convention below);
 //! * `ASSIGNMA` cards name each region's material: it is recorded in
 //!   [`RegionProps::description`] as `material: NAME`, and `BLCKHOLE` regions
 //!   are made transparent (`VACUUM` regions get air code 1);
@@ -17,6 +17,31 @@
 //! may be moved by `$start_translat`, `$start_expansion` and
 //! `$start_transform` (nested in any order). Regions are put in disjunctive
 //! normal form: each becomes a union of zones of signed body terms.
+//!
+//! # Transforms
+//!
+//! The ROT-DEFI convention is the FLUKA manual's (ROT-DEFIni), which
+//! pyg4ometry's reader follows too:
+//!
+//! * WHAT(1) gives the axis j: `j + 1000 i` from 1000 on, `i + 100 j` from
+//!   100 on, otherwise only the index i, with j = 0. j = 1 is x, 2 is y, 0 or 3
+//!   is z. Any other j is an error.
+//! * WHAT(2) is the polar angle θ, WHAT(3) the azimuthal angle φ (degrees),
+//!   WHAT(4…6) the offset t. A body point r becomes `Rθ · Rφ · (r + t)`,
+//!   with (rows) for z: `Rθ = [[cθ,0,−sθ],[0,1,0],[sθ,0,cθ]]`,
+//!   `Rφ = [[cφ,sφ,0],[−sφ,cφ,0],[0,0,1]]`; for x:
+//!   `Rθ = [[cθ,sθ,0],[−sθ,cθ,0],[0,0,1]]`, `Rφ = [[1,0,0],[0,cφ,sφ],[0,−sφ,cφ]]`;
+//!   for y: `Rθ = [[1,0,0],[0,cθ,sθ],[0,−sθ,cθ]]`,
+//!   `Rφ = [[cφ,0,−sφ],[0,1,0],[sφ,0,cφ]]`.
+//! * Several ROT-DEFI cards with one name make one transformation, the first
+//!   card acting first. `$start_transform -NAME` applies its inverse.
+//! * Around a body, all `$start_expansion` factors act first (they
+//!   multiply), then all `$start_translat` shifts (they add up), then the
+//!   transforms, the innermost first (the manual's `r' = R2(R1(r))` for `R2`
+//!   around `R1`), whatever the order the directives are nested in; an
+//!   `$end_…` closes the innermost open directive of its kind.
+//! * The result goes through [`Body::transformed`]: a turned RPP becomes a
+//!   BOX, a turned XYP a PLA, a turned XCC…ZEC a QUA.
 //!
 //! `LATTICE` cards are read and checked; the container regions are drawn as
 //! themselves and a note in [`Scene::notes`] says the replicas are not drawn.

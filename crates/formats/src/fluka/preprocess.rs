@@ -38,7 +38,7 @@ pub(crate) struct Output {
     pub errors: Vec<Diagnostic>,
     /// Errors past [`super::MAX_ERRORS`], counted only.
     pub suppressed: usize,
-    /// Byte offset of each line start, per file (see [`span`]).
+    /// Byte offset of each line start, per file (see [`Output::error`]).
     pub starts: Vec<Vec<usize>>,
 }
 

@@ -1,25 +1,7 @@
 //! ROT-DEFI roto-translations and the transform a body gets from the
 //! `$start_…` directives around it.
 //!
-//! Convention (FLUKA manual, ROT-DEFIni; the same as pyg4ometry's reader):
-//!
-//! * WHAT(1) gives the axis j: `j + 1000 i` when ≥ 1000, `i + 100 j` when
-//!   ≥ 100, otherwise only the index i and j = 0. j = 1 is x, 2 is y, 0 or 3
-//!   is z.
-//! * WHAT(2) is the polar angle θ, WHAT(3) the azimuthal angle φ (degrees),
-//!   WHAT(4…6) the offset t. A body point r becomes `R_θ · R_φ · (r + t)` with,
-//!   for j = 3 (rows): `R_θ = [[cθ,0,−sθ],[0,1,0],[sθ,0,cθ]]`,
-//!   `R_φ = [[cφ,sφ,0],[−sφ,cφ,0],[0,0,1]]`; for j = 1:
-//!   `R_θ = [[cθ,sθ,0],[−sθ,cθ,0],[0,0,1]]`, `R_φ = [[1,0,0],[0,cφ,sφ],[0,−sφ,cφ]]`;
-//!   for j = 2: `R_θ = [[1,0,0],[0,cθ,sθ],[0,−sθ,cθ]]`,
-//!   `R_φ = [[cφ,0,−sφ],[0,1,0],[sφ,0,cφ]]`.
-//! * Several ROT-DEFI cards with one name make one transformation, applied
-//!   in the order the cards appear (the first card acts first).
-//! * `$start_transform -NAME` applies the inverse.
-//! * Around a body, all expansions act first (their factors multiply), then
-//!   all translations (they add up), then the roto-translations, the
-//!   innermost first (the manual's `r' = R2(R1(r))` for `R2` around `R1`),
-//!   whatever the order in which the directives are nested.
+//! The convention is described in the parent module's documentation.
 
 use sv_math::{DAffine3, DMat3, DVec3};
 

@@ -1049,6 +1049,13 @@ fn lattice_containers_are_kept_and_noted() {
 }
 
 #[test]
+fn a_comment_before_the_geometry_title_is_skipped() {
+    let text = geo("SPH a 0 0 0 1", "r 5 +a").replace("COMBNAME\n", "COMBNAME\n* note\n");
+    let l = read_text(&text.replace("TITLE\nhand-made\n", "")).unwrap();
+    assert_eq!(l.scene.title, "test");
+}
+
+#[test]
 fn comments_are_skipped() {
     let text = geo(
         "* a comment\nSPH a 0 0 0 1 ! trailing\n!whole line",

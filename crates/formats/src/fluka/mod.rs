@@ -114,6 +114,9 @@ pub const BODY_CODES: [(&str, BodyKind); 21] = [
     ("QUA", BodyKind::Qua),
 ];
 
+/// FLUKA body types this reader knows of but does not read.
+const UNSUPPORTED_CODES: [&str; 4] = ["PYX", "PYY", "PYZ", "TET"];
+
 const DIRECTIVES: [&str; 6] = [
     "$start_translat",
     "$end_translat",
@@ -593,13 +596,14 @@ impl Reader {
     }
 
     fn geometry(&mut self, begin: usize, end: usize, free: bool) {
-        let (ivlflg, title) = if begin + 1 < end {
-            geometry_title(&self.lines[begin + 1].text)
-        } else {
-            (0, String::new())
-        };
+        // The title line is the first line after GEOBEGIN that is not a
+        // comment.
+        let title_line = (begin + 1..end).find(|&k| !self.lines[k].text.starts_with('*'));
+        let (ivlflg, title) =
+            title_line.map_or((0, String::new()), |k| geometry_title(&self.lines[k].text));
         self.geo_title = title;
-        let Some(regions_start) = self.bodies_section(begin + 2, end) else {
+        let Some(regions_start) = self.bodies_section(title_line.map_or(end, |k| k + 1), end)
+        else {
             self.err(end, 1, 6, "missing END after the bodies").hint =
                 Some("the body list ends with a line holding END".into());
             return;
@@ -897,9 +901,27 @@ impl Reader {
         let (line, col, code) = (p.words[0].0, p.words[0].1, p.words[0].2.as_str());
         let code_len = code.chars().count();
         let Some(kind) = body_code(code) else {
-            let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
-            self.err(line, col, code_len, format!("unknown body type `{code}`"))
-                .hint = hint;
+            if UNSUPPORTED_CODES
+                .iter()
+                .any(|c| c.eq_ignore_ascii_case(code))
+            {
+                let list = BODY_CODES
+                    .iter()
+                    .map(|(c, _)| *c)
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                self.err(
+                    line,
+                    col,
+                    code_len,
+                    format!("FLUKA body type `{code}` is not supported"),
+                )
+                .hint = Some(format!("supported body types: {list}"));
+            } else {
+                let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
+                self.err(line, col, code_len, format!("unknown body type `{code}`"))
+                    .hint = hint;
+            }
             if let Some((_, _, name)) = p.words.get(1) {
                 self.bad_bodies.insert(name.clone());
             }

@@ -731,6 +731,10 @@ fn body_errors_are_all_reported_with_positions() {
     let first = e.errors().next().unwrap();
     assert_eq!(first.hint.as_deref(), Some("did you mean `SPH`?"));
     assert_eq!(
+        e.errors().nth(3).unwrap().hint.as_deref(),
+        Some("the first definition is on line 8")
+    );
+    assert_eq!(
         e.errors().nth(1).unwrap().render_plain(),
         "error: RCC `b` needs 7 values, found 6\n --> test.inp:6:1\n  |\n6 | RCC b 0 0 0 0 0 1\n  | ^^^\n  = hint: RCC values: V(3) H(3) R\n"
     );

@@ -144,9 +144,11 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         geo_title: String::new(),
         bodies: Vec::new(),
         body_index: HashMap::new(),
+        body_lines: Vec::new(),
         bad_bodies: HashSet::new(),
         regions: Vec::new(),
         region_index: HashMap::new(),
+        region_lines: Vec::new(),
         lattices: Vec::new(),
         expander: region::Expander::default(),
         assign_budget: 10_000_000,
@@ -234,10 +236,14 @@ struct Reader {
     geo_title: String,
     bodies: Vec<Body>,
     body_index: HashMap<String, usize>,
+    /// Line index of each body's definition.
+    body_lines: Vec<usize>,
     /// Bodies defined with errors: references to them are not reported again.
     bad_bodies: HashSet<String>,
     regions: Vec<Region>,
     region_index: HashMap<String, usize>,
+    /// Line index of each region's definition.
+    region_lines: Vec<usize>,
     /// Lattice container regions (indices), with the card's line.
     lattices: Vec<(usize, usize)>,
     expander: region::Expander,
@@ -413,6 +419,16 @@ impl Reader {
             .map(String::as_str)
             .filter(|c| c.chars().count().abs_diff(n) <= n / 3 + 2);
         did_you_mean(word, near).map(|s| format!("did you mean `{s}`?"))
+    }
+
+    /// `line N` (with the file's name when it is an included file).
+    fn where_is(&self, line: usize) -> String {
+        let l = &self.lines[line];
+        if l.file == 0 {
+            format!("line {}", l.line)
+        } else {
+            format!("line {} of {}", l.line, self.out.files[l.file].name)
+        }
     }
 
     /// True once [`MAX_ERRORS`] errors are kept (hints are then not
@@ -942,13 +958,14 @@ impl Reader {
             return;
         }
         if let Some(&first) = self.body_index.get(name) {
-            let _ = first;
+            let hint = self.where_is(self.body_lines[first]);
             self.err(
                 nl,
                 nc,
                 name.chars().count(),
                 format!("body `{name}` is defined twice"),
-            );
+            )
+            .hint = Some(format!("the first definition is on {hint}"));
             return;
         }
         let values = &p.words[2..];
@@ -1043,6 +1060,7 @@ impl Reader {
         }
         self.body_index.insert(name.to_string(), self.bodies.len());
         self.bodies.push(body);
+        self.body_lines.push(line);
     }
 
     /// Read regions from line `start`; the index after END, or `None`.
@@ -1143,16 +1161,19 @@ impl Reader {
                 return;
             }
         };
-        if self.region_index.contains_key(&name) {
+        if let Some(&first) = self.region_index.get(&name) {
+            let hint = self.where_is(self.region_lines[first]);
             self.err(
                 line,
                 col,
                 name_len,
                 format!("region `{name}` is defined twice"),
-            );
+            )
+            .hint = Some(format!("the first definition is on {hint}"));
             return;
         }
         self.region_index.insert(name.clone(), self.regions.len());
+        self.region_lines.push(line);
         let zones = if ok && missing.is_empty() {
             match self.expander.zones(&parsed) {
                 Ok(z) => z,

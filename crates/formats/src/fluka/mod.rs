@@ -581,10 +581,7 @@ impl Reader {
         let (index, axis) = match rotdefi::index_and_axis(w[0]) {
             Ok(x) => x,
             Err(j) => {
-                let f = c.what[0]
-                    .as_ref()
-                    .expect("a non-zero axis code was written");
-                let (col, len) = (f.col, f.len());
+                let (col, len) = c.what[0].as_ref().map_or((1, 8), |f| (f.col, f.len()));
                 self.err(
                     i,
                     col,

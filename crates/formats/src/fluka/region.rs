@@ -166,6 +166,7 @@ impl<'a, F: FnMut(&Spanned) -> Option<usize>> Parser<'a, F> {
             return match self.peek() {
                 None => self.fail("expected a body after this point, found the end of the region"),
                 Some(Tok::Bar) => self.fail("empty zone: expected `+body` or `-body` before `|`"),
+                _ if depth == 0 => self.fail("unexpected `)` with no `(` open"),
                 _ => self.fail("empty parentheses: expected `+body` or `-body` before `)`"),
             };
         }

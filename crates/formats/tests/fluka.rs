@@ -862,6 +862,62 @@ fn zone_blow_up_is_an_error() {
 }
 
 #[test]
+fn names_are_letters_digits_and_underscores() {
+    assert_eq!(
+        errors(&geo("SPH beam-pipe 0 0 0 1", "r 5 +a")),
+        [
+            (5, 5, "body name `beam-pipe` must start with a letter and hold only letters, digits and `_`".to_string()),
+            (7, 6, "region `r` refers to undefined body `a`".to_string()),
+        ]
+    );
+    assert_eq!(
+        errors(&geo("SPH a 0 0 0 1", "r.1 5 +a")),
+        [(
+            8,
+            1,
+            "region name `r.1` must start with a letter and hold only letters, digits and `_`"
+                .to_string()
+        )]
+    );
+}
+
+#[test]
+fn a_turned_quadric_keeps_its_surface() {
+    // 314: ROT-DEFI WHAT(1)=3 (index 3, z axis), φ=−45°: (x,y,z) goes to
+    // ((x−y)/√2, (x+y)/√2, z). The form 0.06x² + y − 20 must take the same
+    // values at the moved points.
+    let Some(l) = input("314_QUA_transform.inp") else {
+        return;
+    };
+    let q = &body(&l, "parab").params;
+    let value = |p: DVec3| {
+        q[0] * p.x * p.x
+            + q[1] * p.y * p.y
+            + q[2] * p.z * p.z
+            + q[3] * p.x * p.y
+            + q[4] * p.x * p.z
+            + q[5] * p.y * p.z
+            + q[6] * p.x
+            + q[7] * p.y
+            + q[8] * p.z
+            + q[9]
+    };
+    let turn = |x: f64, y: f64, z: f64| DVec3::new((x - y) * H, (x + y) * H, z);
+    for (p, want) in [
+        ((0.0, 20.0, 5.0), 0.0),
+        ((0.0, 0.0, 0.0), -20.0),
+        ((10.0, 0.0, 0.0), -14.0),
+        ((3.0, -4.0, 7.0), -23.46),
+    ] {
+        let got = value(turn(p.0, p.1, p.2));
+        assert!((got - want).abs() < 1e-9, "{p:?}: {got}");
+    }
+    // The plane XYP end1 (z < 100) is unchanged by a turn about z.
+    assert_eq!(body(&l, "end1").kind, BodyKind::Pla);
+    assert_close(&body(&l, "end1").params[..3], &[0.0, 0.0, 1.0]);
+}
+
+#[test]
 fn structure_errors() {
     assert_eq!(
         errors("TITLE\nno geometry\nSTOP\n"),

@@ -298,6 +298,12 @@ fn is_integer(s: &str) -> bool {
     !d.is_empty() && d.len() < 10 && d.bytes().all(|b| b.is_ascii_digit())
 }
 
+/// FLUKA names: a letter, then letters, digits and `_`.
+fn is_name(s: &str) -> bool {
+    s.starts_with(|c: char| c.is_ascii_alphabetic())
+        && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
 fn starts_numeric(s: &str) -> bool {
     s.starts_with(|c: char| c.is_ascii_digit() || c == '+' || c == '-' || c == '.')
 }
@@ -954,6 +960,11 @@ impl Reader {
             );
             return;
         }
+        if !is_name(name) {
+            self.err(nl, nc, name.chars().count(), format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
+            self.bad_bodies.insert(name.to_string());
+            return;
+        }
         if let Some(&first) = self.body_index.get(name) {
             let hint = self.where_is(self.body_lines[first]);
             self.err(
@@ -1086,6 +1097,9 @@ impl Reader {
                 let shift = ncol - 1 + naz.chars().count();
                 for t in &mut toks {
                     t.col += shift;
+                }
+                if !is_name(first) {
+                    self.err(k, col0, first.chars().count(), format!("region name `{first}` must start with a letter and hold only letters, digits and `_`"));
                 }
                 cur = Some((k, col0, first.to_string(), toks));
             } else if opens && cur.is_some() {

@@ -873,7 +873,7 @@ fn names_are_letters_digits_and_underscores() {
     assert_eq!(
         errors(&geo("SPH a 0 0 0 1", "r.1 5 +a")),
         [(
-            8,
+            7,
             1,
             "region name `r.1` must start with a letter and hold only letters, digits and `_`"
                 .to_string()

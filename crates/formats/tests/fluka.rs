@@ -1095,7 +1095,7 @@ fn lattice_containers_are_kept_and_noted() {
     };
     assert!(l.scene.geometry.region_index("REPLICA").is_some());
     assert_eq!(zones(&l, "REPLICA"), ["+repl -repl2"]);
-    assert_eq!(l.scene.notes, ["LATTICE replicas are not drawn: lattice cell regions REPLICA, REPLIC2 are drawn as their container bodies only"]);
+    assert_eq!(l.scene.notes, ["LATTICE replicas are not drawn: lattice cells REPLICA, REPLIC2 are drawn as plain regions (their containers only)"]);
     let text =
         geo("SPH a 0 0 0 1", "r 5 +a").replace("END\nGEOEND", "END\nLATTICE      cell\nGEOEND");
     assert_eq!(
@@ -1284,7 +1284,7 @@ fn lattice_ranges_cover_every_region_between() {
     let l = read_text(&text).unwrap();
     assert_eq!(
         l.scene.notes.last().unwrap(),
-        "LATTICE replicas are not drawn: lattice cell regions r1, r2, r3 are drawn as their container bodies only"
+        "LATTICE replicas are not drawn: lattice cells r1, r2, r3 are drawn as plain regions (their containers only)"
     );
     assert_eq!(
         l.warnings[0].message,

@@ -1253,11 +1253,18 @@ impl Reader {
                 }
             }
             scene.notes.push(format!(
-                "LATTICE replicas are not drawn: lattice cell region{} {} drawn as {} container bod{} only",
-                if names.len() == 1 { "" } else { "s" },
-                if names.len() == 1 { format!("{} is", names[0]) } else { format!("{} are", names.join(", ")) },
-                if names.len() == 1 { "its" } else { "their" },
-                if names.len() == 1 { "y" } else { "ies" },
+                "LATTICE replicas are not drawn: {}",
+                if names.len() == 1 {
+                    format!(
+                        "lattice cell {} is drawn as a plain region (its container only)",
+                        names[0]
+                    )
+                } else {
+                    format!(
+                        "lattice cells {} are drawn as plain regions (their containers only)",
+                        names.join(", ")
+                    )
+                },
             ));
         }
         scene

@@ -1090,9 +1090,14 @@ fn titles() {
 
 #[test]
 fn lattice_containers_are_kept_and_noted() {
-    let Some(l) = input("702_LATTICE.inp") else {
+    let Some(l) = input("701_LATTICE.inp") else {
         return;
     };
+    assert_eq!(
+        l.scene.notes,
+        ["LATTICE replicas are not drawn: lattice cell REPLICA is drawn as a plain region (its container only)"]
+    );
+    let l = input("702_LATTICE.inp").unwrap();
     assert!(l.scene.geometry.region_index("REPLICA").is_some());
     assert_eq!(zones(&l, "REPLICA"), ["+repl -repl2"]);
     assert_eq!(l.scene.notes, ["LATTICE replicas are not drawn: lattice cells REPLICA, REPLIC2 are drawn as plain regions (their containers only)"]);

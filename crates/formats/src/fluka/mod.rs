@@ -249,7 +249,8 @@ struct Reader {
     expander: region::Expander,
     /// How many more "did you mean" hints may be worked out.
     hints_left: std::cell::Cell<usize>,
-    /// Region assignments ASSIGNMA ranges may still make (bounds the work).
+    /// Region assignments ASSIGNMA and LATTICE ranges may still make (bounds
+    /// the work).
     assign_budget: usize,
     /// Errors past [`MAX_ERRORS`]: counted, not kept.
     suppressed: usize,
@@ -680,8 +681,13 @@ impl Reader {
                     .and_then(|f| card::number(&f.text))
                     .filter(|v| *v >= 1.0)
                     .map_or(1, |v| v.min(1e9) as usize);
-                self.lattices
-                    .extend((r..=last).step_by(step).map(|k| (k, i)));
+                for k in (r..=last).step_by(step) {
+                    if self.assign_budget == 0 {
+                        break;
+                    }
+                    self.assign_budget -= 1;
+                    self.lattices.push((k, i));
+                }
             }
             None => {
                 let (col, len, name) = (cell.col, cell.len(), cell.text.clone());

@@ -1,1 +1,4 @@
-//! placeholder
+//! Image writers, auxiliary images and films.
+#![warn(missing_docs)]
+
+pub mod film;

@@ -342,6 +342,20 @@ impl Timeline {
         self.spec.size
     }
 
+    /// A SHA-256 digest (hex) of everything that decides the film's
+    /// pictures apart from render settings: the specification (objects,
+    /// axes, steps, rate, size, camera) and the base scene. Comments and
+    /// layout of a script do not change it. Film runners combine it with
+    /// their own settings to tell which frames on disk are still valid.
+    pub fn fingerprint(&self, base: &Scene) -> String {
+        use sha2::{Digest, Sha256};
+        let mut h = Sha256::new();
+        h.update(format!("{:?}", self.spec).as_bytes());
+        h.update([0u8]);
+        h.update(format!("{base:?}").as_bytes());
+        h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    }
+
     /// The object that moves a body of the base scene, if any.
     pub fn body_owner(&self, body: usize) -> Option<usize> {
         self.body_owner.get(body).copied().flatten()

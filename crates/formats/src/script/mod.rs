@@ -170,6 +170,20 @@ pub fn load_source(src: &SourceFile, dir: &Path, opts: &LoadOptions) -> Result<F
     }
 }
 
+/// Parse a script and build its timeline for an already loaded scene (its
+/// `SCENE` lines are checked for syntax only). Syntax and name errors are
+/// reported together, in file order.
+pub fn build_timeline(src: &SourceFile, scene: &Scene) -> Result<Timeline, Diagnostics> {
+    let (ast, mut diags) = parse(src);
+    match resolve(src, &ast, scene) {
+        Ok(t) if !diags.has_errors() => return Ok(t),
+        Ok(_) => {}
+        Err(more) => diags.items.extend(more.items),
+    }
+    diags.items.sort_by_key(|d| d.offset);
+    Err(diags)
+}
+
 /// The scene `b` added to `a`: bodies, regions and lights appended (body
 /// references shifted), camera and picture settings of `a` kept unless `a`
 /// has no camera. Fails, handing `a` back, when a region name is in both.

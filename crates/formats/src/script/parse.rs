@@ -534,16 +534,18 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
             return Ok(());
         }
         "REPEAT" => {
-            let n = l.count("a repeat count (at least 1)", sv_director::MAX_FRAMES)?;
-            l.eat("TIMES");
-            l.finish()?;
-            stack.push(Open { kind: "REPEAT", span, count: n, blocks: Vec::new(), cmds: Vec::new() });
-            return Ok(());
+            // The block is opened even when the count is wrong, so that its
+            // END is not reported as well.
+            let n = l.count("a repeat count (at least 1)", sv_director::MAX_FRAMES);
+            let _ = l.eat("TIMES");
+            let rest = l.finish();
+            stack.push(Open { kind: "REPEAT", span, count: *n.as_ref().unwrap_or(&0), blocks: Vec::new(), cmds: Vec::new() });
+            n?;
+            return rest;
         }
         "TOGETHER" => {
-            l.finish()?;
             stack.push(Open { kind: "TOGETHER", span, count: 1, blocks: Vec::new(), cmds: Vec::new() });
-            return Ok(());
+            return l.finish();
         }
         "END" => {
             let _ = l.eat("REPEAT") || l.eat("TOGETHER");

@@ -207,7 +207,10 @@ impl Timeline {
             let mut steps = 0;
             while let Some(p) = at {
                 if p == o {
-                    errors.push(DirectorError::Cycle { object: o, name: spec.objects[o].name.clone() });
+                    errors.push(DirectorError::Cycle {
+                        object: o,
+                        name: spec.objects[o].name.clone(),
+                    });
                     break;
                 }
                 steps += 1;
@@ -242,7 +245,10 @@ impl Timeline {
         moved.sort_unstable();
         moved.dedup();
         let signature = |owner: Option<usize>| -> Vec<bool> {
-            moved.iter().map(|&t| owner.is_some_and(|o| subtree[t].contains(&o))).collect()
+            moved
+                .iter()
+                .map(|&t| owner.is_some_and(|o| subtree[t].contains(&o)))
+                .collect()
         };
 
         // Body owners.
@@ -277,7 +283,9 @@ impl Timeline {
         };
         let mut body_owner = vec![None; nb];
         for b in 0..nb {
-            let Some(&first) = owners[b].first() else { continue };
+            let Some(&first) = owners[b].first() else {
+                continue;
+            };
             body_owner[b] = first;
             let sig = signature(first);
             for (j, &other) in owners[b].iter().enumerate().skip(1) {
@@ -295,7 +303,13 @@ impl Timeline {
         let subtree_bodies = subtree
             .iter()
             .map(|objs| {
-                let mut v: Vec<usize> = (0..nb).filter(|&b| owners[b].iter().any(|o| o.is_some_and(|o| objs.contains(&o)))).collect();
+                let mut v: Vec<usize> = (0..nb)
+                    .filter(|&b| {
+                        owners[b]
+                            .iter()
+                            .any(|o| o.is_some_and(|o| objs.contains(&o)))
+                    })
+                    .collect();
                 v.dedup();
                 v
             })
@@ -319,7 +333,17 @@ impl Timeline {
             track: None,
         };
         let ref_points = geo.bodies.iter().map(reference_points).collect();
-        Ok(Timeline { spec, subtree, subtree_bodies, body_owner, ref_points, changes, blocks, frames, initial })
+        Ok(Timeline {
+            spec,
+            subtree,
+            subtree_bodies,
+            body_owner,
+            ref_points,
+            changes,
+            blocks,
+            frames,
+            initial,
+        })
     }
 
     /// The specification the timeline was built from.
@@ -431,7 +455,9 @@ impl Timeline {
     pub fn object_centre(&self, object: usize, state: &FrameState) -> DVec3 {
         let mut bb = Aabb::EMPTY;
         for &b in self.subtree_bodies.get(object).map_or(&[][..], |v| v) {
-            let t = self.body_owner(b).map_or(DAffine3::IDENTITY, |o| state.object_transform(o));
+            let t = self
+                .body_owner(b)
+                .map_or(DAffine3::IDENTITY, |o| state.object_transform(o));
             for p in &self.ref_points[b] {
                 bb = bb.including(t.transform_point3(*p));
             }
@@ -445,7 +471,9 @@ impl Timeline {
 
     /// World position and direction of an axis at a set-up.
     pub fn axis_at(&self, axis: usize, state: &FrameState) -> (DVec3, DVec3) {
-        let Some(a) = self.spec.axes.get(axis) else { return (DVec3::ZERO, DVec3::Z) };
+        let Some(a) = self.spec.axes.get(axis) else {
+            return (DVec3::ZERO, DVec3::Z);
+        };
         match a.on {
             Some(o) => {
                 let t = state.object_transform(o);
@@ -506,7 +534,11 @@ impl Timeline {
                     }
                 }
             }
-            Change::Turn { target, axis, degrees } => {
+            Change::Turn {
+                target,
+                axis,
+                degrees,
+            } => {
                 let (p, d) = self.axis_at(axis, s);
                 let r = rotation_about_axis(p, d, degrees * f);
                 match target {
@@ -554,7 +586,11 @@ impl Timeline {
                     *i = lerp(*i, value, f);
                 }
             }
-            Change::Spin { object, axis, degrees_per_frame } => {
+            Change::Spin {
+                object,
+                axis,
+                degrees_per_frame,
+            } => {
                 s.spins.retain(|sp| sp.0 != object);
                 s.spins.push((object, axis, degrees_per_frame));
             }
@@ -574,19 +610,35 @@ fn lerp(a: f64, b: f64, f: f64) -> f64 {
 
 fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
     match (z, c.lens) {
-        (Zoom::Fov(v1), Lens::Fov { vertical_deg }) => Lens::Fov { vertical_deg: lerp(vertical_deg, v1, f) },
+        (Zoom::Fov(v1), Lens::Fov { vertical_deg }) => Lens::Fov {
+            vertical_deg: lerp(vertical_deg, v1, f),
+        },
         (Zoom::Fov(v1), Lens::Focal { .. }) => {
             let v0 = 2.0 * c.tan_half_fov().atan().to_degrees();
-            Lens::Fov { vertical_deg: lerp(v0, v1, f) }
+            Lens::Fov {
+                vertical_deg: lerp(v0, v1, f),
+            }
         }
-        (Zoom::Focal { focal, .. }, Lens::Focal { focal: f0, film_height }) => {
-            Lens::Focal { focal: lerp(f0, focal, f), film_height }
-        }
+        (
+            Zoom::Focal { focal, .. },
+            Lens::Focal {
+                focal: f0,
+                film_height,
+            },
+        ) => Lens::Focal {
+            focal: lerp(f0, focal, f),
+            film_height,
+        },
         (Zoom::Focal { focal, film_height }, Lens::Fov { .. }) => {
             let f0 = film_height / (2.0 * c.tan_half_fov());
-            Lens::Focal { focal: lerp(f0, focal, f), film_height }
+            Lens::Focal {
+                focal: lerp(f0, focal, f),
+                film_height,
+            }
         }
-        (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho { height: lerp(height, h1, f) },
+        (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho {
+            height: lerp(height, h1, f),
+        },
         // A perspective setting on an orthographic camera and the reverse
         // are refused by the script reader; here they leave the lens alone.
         (_, lens) => lens,
@@ -607,7 +659,9 @@ fn region_bodies(geo: &Geometry, r: usize) -> Vec<usize> {
 
 fn reference_points(b: &sv_geom::Body) -> Vec<DVec3> {
     let p = &b.params;
-    let at = |i: usize| -> Option<DVec3> { Some(DVec3::new(*p.get(i)?, *p.get(i + 1)?, *p.get(i + 2)?)) };
+    let at = |i: usize| -> Option<DVec3> {
+        Some(DVec3::new(*p.get(i)?, *p.get(i + 1)?, *p.get(i + 2)?))
+    };
     let mut out = Vec::new();
     if b.kind.is_infinite() {
         return out;
@@ -616,7 +670,11 @@ fn reference_points(b: &sv_geom::Body) -> Vec<DVec3> {
         BodyKind::Rpp => {
             if p.len() >= 6 {
                 for i in 0..8 {
-                    out.push(DVec3::new(p[i & 1], p[2 + ((i >> 1) & 1)], p[4 + ((i >> 2) & 1)]));
+                    out.push(DVec3::new(
+                        p[i & 1],
+                        p[2 + ((i >> 1) & 1)],
+                        p[4 + ((i >> 2) & 1)],
+                    ));
                 }
             }
         }
@@ -691,11 +749,15 @@ fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
         };
         match *c {
             Change::Move { target: t, .. } => target(t, &mut bad),
-            Change::Turn { target: t, axis, .. } => {
+            Change::Turn {
+                target: t, axis, ..
+            } => {
                 target(t, &mut bad);
                 bad("axis", axis, na);
             }
-            Change::Aim(AimPoint::Object(o)) | Change::Stop { object: o } | Change::Track(Some(o)) => bad("object", o, n),
+            Change::Aim(AimPoint::Object(o))
+            | Change::Stop { object: o }
+            | Change::Track(Some(o)) => bad("object", o, n),
             Change::Spin { object, axis, .. } => {
                 bad("object", object, n);
                 bad("axis", axis, na);
@@ -706,15 +768,24 @@ fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
     });
     for (i, a) in spec.axes.iter().enumerate() {
         if !(a.dir.length_squared() > 0.0 && a.dir.is_finite() && a.point.is_finite()) {
-            errors.push(DirectorError::BadAxis { axis: i, name: a.name.clone() });
+            errors.push(DirectorError::BadAxis {
+                axis: i,
+                name: a.name.clone(),
+            });
         }
     }
 }
 
 fn collect_moved(steps: &[Step], out: &mut Vec<usize>) {
     let mut one = |c: &Change| match *c {
-        Change::Move { target: Target::Object(o), .. }
-        | Change::Turn { target: Target::Object(o), .. }
+        Change::Move {
+            target: Target::Object(o),
+            ..
+        }
+        | Change::Turn {
+            target: Target::Object(o),
+            ..
+        }
         | Change::Spin { object: o, .. } => out.push(o),
         _ => {}
     };
@@ -733,26 +804,46 @@ fn collect_moved(steps: &[Step], out: &mut Vec<usize>) {
 
 struct TooLong;
 
-fn push_block(changes: &mut Vec<Timed>, blocks: &mut Vec<Block>, frames: &mut usize, items: &[Timed], len: usize) -> Result<(), TooLong> {
+fn push_block(
+    changes: &mut Vec<Timed>,
+    blocks: &mut Vec<Block>,
+    frames: &mut usize,
+    items: &[Timed],
+    len: usize,
+) -> Result<(), TooLong> {
     if items.is_empty() && len == 0 {
         return Ok(());
     }
     let start = *frames;
-    let end = start.checked_add(len).filter(|&e| e <= MAX_FRAMES).ok_or(TooLong)?;
+    let end = start
+        .checked_add(len)
+        .filter(|&e| e <= MAX_FRAMES)
+        .ok_or(TooLong)?;
     if blocks.len() >= MAX_BLOCKS || changes.len() + items.len() > 4 * MAX_BLOCKS {
         return Err(TooLong);
     }
     let c0 = changes.len();
     changes.extend_from_slice(items);
-    blocks.push(Block { start, len, changes: c0..changes.len() });
+    blocks.push(Block {
+        start,
+        len,
+        changes: c0..changes.len(),
+    });
     *frames = end;
     Ok(())
 }
 
-fn expand(steps: &[Step], changes: &mut Vec<Timed>, blocks: &mut Vec<Block>, frames: &mut usize) -> Result<(), TooLong> {
+fn expand(
+    steps: &[Step],
+    changes: &mut Vec<Timed>,
+    blocks: &mut Vec<Block>,
+    frames: &mut usize,
+) -> Result<(), TooLong> {
     for s in steps {
         match s {
-            Step::Change(t) => push_block(changes, blocks, frames, std::slice::from_ref(t), t.frames)?,
+            Step::Change(t) => {
+                push_block(changes, blocks, frames, std::slice::from_ref(t), t.frames)?
+            }
             Step::Together(ts) => {
                 let len = ts.iter().map(|t| t.frames).max().unwrap_or(0);
                 push_block(changes, blocks, frames, ts, len)?;

@@ -151,12 +151,20 @@ pub struct Timed {
 impl Timed {
     /// A change applied at once.
     pub fn now(change: Change) -> Timed {
-        Timed { change, frames: 0, easing: Easing::Linear }
+        Timed {
+            change,
+            frames: 0,
+            easing: Easing::Linear,
+        }
     }
 
     /// A change spread linearly over `frames` frames.
     pub fn over(change: Change, frames: usize) -> Timed {
-        Timed { change, frames, easing: Easing::Linear }
+        Timed {
+            change,
+            frames,
+            easing: Easing::Linear,
+        }
     }
 
     /// Fraction of the change done at frame `k` (1-based) of its block.
@@ -205,6 +213,13 @@ pub struct Spec {
 
 impl Default for Spec {
     fn default() -> Self {
-        Spec { objects: Vec::new(), axes: Vec::new(), steps: Vec::new(), fps: 24.0, size: None, camera: None }
+        Spec {
+            objects: Vec::new(),
+            axes: Vec::new(),
+            steps: Vec::new(),
+            fps: 24.0,
+            size: None,
+            camera: None,
+        }
     }
 }

@@ -19,7 +19,15 @@ const OFFSET: usize = 3;
 fn region(name: &str, bodies: &[usize]) -> Region {
     Region {
         name: name.into(),
-        zones: vec![Zone { terms: bodies.iter().map(|&b| Term { op: Op::Inside, body: b }).collect() }],
+        zones: vec![Zone {
+            terms: bodies
+                .iter()
+                .map(|&b| Term {
+                    op: Op::Inside,
+                    body: b,
+                })
+                .collect(),
+        }],
     }
 }
 
@@ -28,16 +36,44 @@ fn base() -> Scene {
     let mut s = Scene::default();
     s.geometry.bodies = vec![
         Body::new("hull", BodyKind::Sph, vec![10.0, 0.0, 5.0, 1.0]),
-        Body::new("blade", BodyKind::Rcc, vec![10.0, 0.0, 7.0, 4.0, 0.0, 0.0, 0.1]),
-        Body::new("ground", BodyKind::Rpp, vec![-50.0, 50.0, -50.0, 50.0, -1.0, 0.0]),
+        Body::new(
+            "blade",
+            BodyKind::Rcc,
+            vec![10.0, 0.0, 7.0, 4.0, 0.0, 0.0, 0.1],
+        ),
+        Body::new(
+            "ground",
+            BodyKind::Rpp,
+            vec![-50.0, 50.0, -50.0, 50.0, -1.0, 0.0],
+        ),
     ];
     for (name, b) in [("hull", 0), ("blade", 1), ("ground", 2)] {
         s.push_region(region(name, &[b]), RegionProps::default());
     }
-    s.camera = Some(Camera::looking_at(DVec3::new(0.0, -50.0, 10.0), DVec3::ZERO, DVec3::Z, Lens::Fov { vertical_deg: 40.0 }));
+    s.camera = Some(Camera::looking_at(
+        DVec3::new(0.0, -50.0, 10.0),
+        DVec3::ZERO,
+        DVec3::Z,
+        Lens::Fov { vertical_deg: 40.0 },
+    ));
     s.lights = vec![
-        Light { name: "SUN".into(), kind: LightKind::Parallel { dir: DVec3::new(0.0, 0.0, -1.0) }, intensity: 1.0, colour: [1.0; 3] },
-        Light { name: "LAMP".into(), kind: LightKind::Point { pos: DVec3::new(0.0, 0.0, 20.0), decay: 2.0 }, intensity: 100.0, colour: [1.0; 3] },
+        Light {
+            name: "SUN".into(),
+            kind: LightKind::Parallel {
+                dir: DVec3::new(0.0, 0.0, -1.0),
+            },
+            intensity: 1.0,
+            colour: [1.0; 3],
+        },
+        Light {
+            name: "LAMP".into(),
+            kind: LightKind::Point {
+                pos: DVec3::new(0.0, 0.0, 20.0),
+                decay: 2.0,
+            },
+            intensity: 100.0,
+            colour: [1.0; 3],
+        },
     ];
     s
 }
@@ -45,14 +81,42 @@ fn base() -> Scene {
 fn spec(steps: Vec<Step>) -> Spec {
     Spec {
         objects: vec![
-            Object { name: "HELICOPTER".into(), regions: vec![0], children: vec![ROTOR] },
-            Object { name: "ROTOR".into(), regions: vec![1], children: vec![] },
+            Object {
+                name: "HELICOPTER".into(),
+                regions: vec![0],
+                children: vec![ROTOR],
+            },
+            Object {
+                name: "ROTOR".into(),
+                regions: vec![1],
+                children: vec![],
+            },
         ],
         axes: vec![
-            Axis { name: "A".into(), point: DVec3::new(5.0, 0.0, 0.0), dir: DVec3::Z, on: None },
-            Axis { name: "MAST".into(), point: DVec3::new(10.0, 0.0, 0.0), dir: DVec3::Z, on: Some(HELI) },
-            Axis { name: "X".into(), point: DVec3::ZERO, dir: DVec3::X, on: None },
-            Axis { name: "OFFSET".into(), point: DVec3::new(12.0, 0.0, 0.0), dir: DVec3::Z, on: Some(HELI) },
+            Axis {
+                name: "A".into(),
+                point: DVec3::new(5.0, 0.0, 0.0),
+                dir: DVec3::Z,
+                on: None,
+            },
+            Axis {
+                name: "MAST".into(),
+                point: DVec3::new(10.0, 0.0, 0.0),
+                dir: DVec3::Z,
+                on: Some(HELI),
+            },
+            Axis {
+                name: "X".into(),
+                point: DVec3::ZERO,
+                dir: DVec3::X,
+                on: None,
+            },
+            Axis {
+                name: "OFFSET".into(),
+                point: DVec3::new(12.0, 0.0, 0.0),
+                dir: DVec3::Z,
+                on: Some(HELI),
+            },
         ],
         steps,
         ..Spec::default()
@@ -72,11 +136,18 @@ fn over(c: Change, n: usize) -> Step {
 }
 
 fn mv(target: Target, x: f64, y: f64, z: f64) -> Change {
-    Change::Move { target, by: DVec3::new(x, y, z) }
+    Change::Move {
+        target,
+        by: DVec3::new(x, y, z),
+    }
 }
 
 fn turn(target: Target, axis: usize, degrees: f64) -> Change {
-    Change::Turn { target, axis, degrees }
+    Change::Turn {
+        target,
+        axis,
+        degrees,
+    }
 }
 
 fn hull(s: &Scene) -> DVec3 {
@@ -103,7 +174,12 @@ fn about(c: DVec3, deg: f64, p: DVec3) -> DVec3 {
 
 #[test]
 fn paper_move_and_turn_about_an_axis_off_the_origin() {
-    let t = timeline(vec![now(mv(Target::Object(HELI), 3.0, 0.0, -1.0)), Step::Shoot(1), now(turn(Target::Object(HELI), A, 15.0)), Step::Shoot(1)]);
+    let t = timeline(vec![
+        now(mv(Target::Object(HELI), 3.0, 0.0, -1.0)),
+        Step::Shoot(1),
+        now(turn(Target::Object(HELI), A, 15.0)),
+        Step::Shoot(1),
+    ]);
     assert_eq!(t.frame_count(), 2);
     let s0 = t.scene_at(&base(), 0);
     close(hull(&s0), DVec3::new(13.0, 0.0, 4.0));
@@ -127,7 +203,14 @@ fn axis_moves_with_its_object() {
     ]);
     // OFFSET was carried to (12, 10): the hull at (10, 10) turns about it.
     let s = t.scene_at(&base(), 0);
-    close(hull(&s), about(DVec3::new(12.0, 10.0, 0.0), 90.0, DVec3::new(10.0, 10.0, 5.0)));
+    close(
+        hull(&s),
+        about(
+            DVec3::new(12.0, 10.0, 0.0),
+            90.0,
+            DVec3::new(10.0, 10.0, 5.0),
+        ),
+    );
     close(hull(&s), DVec3::new(12.0, 8.0, 5.0));
     // A second turn uses the axis where the first turn left it (on its own
     // line, so it stays put).
@@ -143,7 +226,11 @@ fn axis_moves_with_its_object() {
 #[test]
 fn rotor_spins_while_the_helicopter_turns() {
     let t = timeline(vec![
-        now(Change::Spin { object: ROTOR, axis: MAST, degrees_per_frame: 10.0 }),
+        now(Change::Spin {
+            object: ROTOR,
+            axis: MAST,
+            degrees_per_frame: 10.0,
+        }),
         over(turn(Target::Object(HELI), A, 90.0), 9),
     ]);
     assert_eq!(t.frame_count(), 9);
@@ -164,7 +251,11 @@ fn rotor_spins_while_the_helicopter_turns() {
 #[test]
 fn spin_continues_through_holds_and_stops() {
     let t = timeline(vec![
-        now(Change::Spin { object: ROTOR, axis: MAST, degrees_per_frame: 10.0 }),
+        now(Change::Spin {
+            object: ROTOR,
+            axis: MAST,
+            degrees_per_frame: 10.0,
+        }),
         Step::Shoot(9),
         now(Change::Stop { object: ROTOR }),
         Step::Shoot(3),
@@ -207,11 +298,25 @@ fn lights_move_turn_and_dim() {
         now(mv(Target::Light(1), 1.0, 0.0, 0.0)),
         now(turn(Target::Light(0), X, 90.0)),
         Step::Shoot(1),
-        over(Change::Intensity { light: 0, value: 0.5 }, 10),
+        over(
+            Change::Intensity {
+                light: 0,
+                value: 0.5,
+            },
+            10,
+        ),
     ]);
     let s = t.scene_at(&base(), 0);
-    assert_eq!(s.lights[1].kind, LightKind::Point { pos: DVec3::new(1.0, 0.0, 20.0), decay: 2.0 });
-    let LightKind::Parallel { dir } = s.lights[0].kind else { panic!("parallel light expected") };
+    assert_eq!(
+        s.lights[1].kind,
+        LightKind::Point {
+            pos: DVec3::new(1.0, 0.0, 20.0),
+            decay: 2.0
+        }
+    );
+    let LightKind::Parallel { dir } = s.lights[0].kind else {
+        panic!("parallel light expected")
+    };
     close(dir, DVec3::new(0.0, 1.0, 0.0));
     // Frame 5 is the 5th of 10 frames of the dimming.
     assert!((t.scene_at(&base(), 5).lights[0].intensity - 0.75).abs() < 1e-12);
@@ -220,9 +325,15 @@ fn lights_move_turn_and_dim() {
 
 #[test]
 fn over_interpolates_moves_and_angles() {
-    let t = timeline(vec![over(mv(Target::Object(HELI), 30.0, 0.0, 0.0), 48), over(turn(Target::Object(HELI), A, 90.0), 3)]);
+    let t = timeline(vec![
+        over(mv(Target::Object(HELI), 30.0, 0.0, 0.0), 48),
+        over(turn(Target::Object(HELI), A, 90.0), 3),
+    ]);
     assert_eq!(t.frame_count(), 51);
-    close(hull(&t.scene_at(&base(), 0)), DVec3::new(10.0 + 30.0 / 48.0, 0.0, 5.0));
+    close(
+        hull(&t.scene_at(&base(), 0)),
+        DVec3::new(10.0 + 30.0 / 48.0, 0.0, 5.0),
+    );
     close(hull(&t.scene_at(&base(), 23)), DVec3::new(25.0, 0.0, 5.0));
     assert_eq!(hull(&t.scene_at(&base(), 47)), DVec3::new(40.0, 0.0, 5.0));
     // The turn goes round the circle, 30 degrees a frame, not along a chord.
@@ -236,9 +347,16 @@ fn over_interpolates_moves_and_angles() {
 
 #[test]
 fn smooth_easing_is_half_way_at_the_middle() {
-    let t = timeline(vec![Step::Change(Timed { change: mv(Target::Object(HELI), 10.0, 0.0, 0.0), frames: 4, easing: Easing::Smooth })]);
+    let t = timeline(vec![Step::Change(Timed {
+        change: mv(Target::Object(HELI), 10.0, 0.0, 0.0),
+        frames: 4,
+        easing: Easing::Smooth,
+    })]);
     close(hull(&t.scene_at(&base(), 1)), DVec3::new(15.0, 0.0, 5.0));
-    close(hull(&t.scene_at(&base(), 0)), DVec3::new(10.0 + 10.0 * 0.15625, 0.0, 5.0));
+    close(
+        hull(&t.scene_at(&base(), 0)),
+        DVec3::new(10.0 + 10.0 * 0.15625, 0.0, 5.0),
+    );
     assert_eq!(hull(&t.scene_at(&base(), 3)), DVec3::new(20.0, 0.0, 5.0));
 }
 
@@ -255,7 +373,10 @@ fn together_runs_changes_over_the_same_frames() {
     // The rotor turns about the mast where the helicopter has carried it.
     close(blade(&s).0, DVec3::new(12.0, 0.0, 7.0));
     close(blade(&s).1, rz(36.0) * DVec3::new(4.0, 0.0, 0.0));
-    assert_eq!(s.camera.map(|c| c.lens), Some(Lens::Fov { vertical_deg: 30.0 }));
+    assert_eq!(
+        s.camera.map(|c| c.lens),
+        Some(Lens::Fov { vertical_deg: 30.0 })
+    );
     let s = t.scene_at(&base(), 6);
     close(blade(&s).1, DVec3::new(0.0, 4.0, 0.0));
     close(hull(&s), DVec3::new(17.0, 0.0, 5.0));
@@ -263,7 +384,13 @@ fn together_runs_changes_over_the_same_frames() {
 
 #[test]
 fn zoom_converts_a_field_of_view_to_a_focal_length() {
-    let t = timeline(vec![over(Change::Zoom(Zoom::Focal { focal: 50.0, film_height: 24.0 }), 2)]);
+    let t = timeline(vec![over(
+        Change::Zoom(Zoom::Focal {
+            focal: 50.0,
+            film_height: 24.0,
+        }),
+        2,
+    )]);
     // 40 degrees on a 24-high film is a focal length of 12 / tan 20°.
     let f0 = 12.0 / 20f64.to_radians().tan();
     match t.scene_at(&base(), 0).camera.map(|c| c.lens) {
@@ -277,7 +404,10 @@ fn zoom_converts_a_field_of_view_to_a_focal_length() {
 
 #[test]
 fn tracking_camera_follows_the_object() {
-    let t = timeline(vec![now(Change::Track(Some(HELI))), over(mv(Target::Object(HELI), 0.0, 20.0, 0.0), 4)]);
+    let t = timeline(vec![
+        now(Change::Track(Some(HELI))),
+        over(mv(Target::Object(HELI), 0.0, 20.0, 0.0), 4),
+    ]);
     for f in 0..4 {
         let s = t.scene_at(&base(), f);
         let cam = s.camera.expect("camera");
@@ -289,21 +419,46 @@ fn tracking_camera_follows_the_object() {
 #[test]
 fn repeat_and_hold_count_frames() {
     let t = timeline(vec![
-        Step::Repeat(3, vec![over(turn(Target::Object(HELI), A, 90.0), 4), Step::Shoot(2)]),
+        Step::Repeat(
+            3,
+            vec![over(turn(Target::Object(HELI), A, 90.0), 4), Step::Shoot(2)],
+        ),
         Step::Shoot(1),
     ]);
     assert_eq!(t.frame_count(), 3 * (4 + 2) + 1);
-    let t2 = timeline(vec![Step::Repeat(2, vec![Step::Repeat(3, vec![Step::Shoot(1)])]), Step::Shoot(24)]);
+    let t2 = timeline(vec![
+        Step::Repeat(2, vec![Step::Repeat(3, vec![Step::Shoot(1)])]),
+        Step::Shoot(24),
+    ]);
     assert_eq!(t2.frame_count(), 30);
     // Changes that shoot nothing add no frames; an empty block repeated
     // without end costs nothing, a change repeated without end is refused.
-    let t3 = timeline(vec![Step::Repeat(1000, vec![now(mv(Target::Camera, 0.0, 0.0, 0.0))])]);
+    let t3 = timeline(vec![Step::Repeat(
+        1000,
+        vec![now(mv(Target::Camera, 0.0, 0.0, 0.0))],
+    )]);
     assert_eq!(t3.frame_count(), 0);
-    assert_eq!(timeline(vec![Step::Repeat(usize::MAX, vec![Step::Repeat(usize::MAX, vec![])])]).frame_count(), 0);
-    let r = Timeline::new(spec(vec![Step::Repeat(usize::MAX, vec![now(mv(Target::Camera, 0.0, 0.0, 0.0))])]), &base());
+    assert_eq!(
+        timeline(vec![Step::Repeat(
+            usize::MAX,
+            vec![Step::Repeat(usize::MAX, vec![])]
+        )])
+        .frame_count(),
+        0
+    );
+    let r = Timeline::new(
+        spec(vec![Step::Repeat(
+            usize::MAX,
+            vec![now(mv(Target::Camera, 0.0, 0.0, 0.0))],
+        )]),
+        &base(),
+    );
     assert_eq!(r.err(), Some(vec![DirectorError::TooLong]));
     // Four quarter turns bring the helicopter back.
-    let t4 = timeline(vec![Step::Repeat(4, vec![over(turn(Target::Object(HELI), A, 90.0), 2)])]);
+    let t4 = timeline(vec![Step::Repeat(
+        4,
+        vec![over(turn(Target::Object(HELI), A, 90.0), 2)],
+    )]);
     assert_eq!(t4.frame_count(), 8);
     close(hull(&t4.scene_at(&base(), 7)), DVec3::new(10.0, 0.0, 5.0));
     close(hull(&t4.scene_at(&base(), 1)), DVec3::new(5.0, 5.0, 5.0));
@@ -311,33 +466,56 @@ fn repeat_and_hold_count_frames() {
 
 #[test]
 fn too_long_a_film_is_refused() {
-    let r = Timeline::new(spec(vec![Step::Repeat(2_000_000, vec![Step::Shoot(1)])]), &base());
+    let r = Timeline::new(
+        spec(vec![Step::Repeat(2_000_000, vec![Step::Shoot(1)])]),
+        &base(),
+    );
     assert_eq!(r.err(), Some(vec![DirectorError::TooLong]));
 }
 
 #[test]
 fn many_small_turns_do_not_drift() {
-    let t = timeline(vec![Step::Repeat(3600, vec![now(turn(Target::Object(HELI), A, 0.1)), Step::Shoot(1)])]);
+    let t = timeline(vec![Step::Repeat(
+        3600,
+        vec![now(turn(Target::Object(HELI), A, 0.1)), Step::Shoot(1)],
+    )]);
     assert_eq!(t.frame_count(), 3600);
     let s = t.scene_at(&base(), 3599);
     close(hull(&s), DVec3::new(10.0, 0.0, 5.0));
-    assert!((s.geometry.bodies[0].params[3] - 1.0).abs() < 1e-12, "radius kept");
+    assert!(
+        (s.geometry.bodies[0].params[3] - 1.0).abs() < 1e-12,
+        "radius kept"
+    );
 }
 
 fn everything() -> Vec<Step> {
     vec![
-        now(Change::Spin { object: ROTOR, axis: MAST, degrees_per_frame: 17.0 }),
+        now(Change::Spin {
+            object: ROTOR,
+            axis: MAST,
+            degrees_per_frame: 17.0,
+        }),
         Step::Shoot(2),
         Step::Repeat(
             3,
             vec![
                 Step::Together(vec![
                     Timed::over(mv(Target::Object(HELI), 1.5, 2.25, 0.3), 7),
-                    Timed { change: turn(Target::Object(HELI), OFFSET, 33.0), frames: 5, easing: Easing::Smooth },
+                    Timed {
+                        change: turn(Target::Object(HELI), OFFSET, 33.0),
+                        frames: 5,
+                        easing: Easing::Smooth,
+                    },
                     Timed::over(turn(Target::Camera, X, -3.0), 6),
                     Timed::now(Change::Aim(AimPoint::Object(ROTOR))),
                 ]),
-                over(Change::Intensity { light: 1, value: 40.0 }, 3),
+                over(
+                    Change::Intensity {
+                        light: 1,
+                        value: 40.0,
+                    },
+                    3,
+                ),
                 Step::Shoot(2),
             ],
         ),
@@ -355,9 +533,19 @@ fn frame_alone_equals_frame_of_a_sequential_run_bit_for_bit() {
     assert_eq!(seq.len(), t.frame_count());
     assert_eq!(t.frame_count(), 2 + 3 * (7 + 3 + 2) + 5 + 4);
     let bits = |s: &Scene| -> Vec<u64> {
-        let mut v: Vec<u64> = s.geometry.bodies.iter().flat_map(|b| b.params.iter().map(|x| x.to_bits())).collect();
+        let mut v: Vec<u64> = s
+            .geometry
+            .bodies
+            .iter()
+            .flat_map(|b| b.params.iter().map(|x| x.to_bits()))
+            .collect();
         let c = s.camera.expect("camera");
-        v.extend([c.eye, c.dir, c.up].iter().flat_map(|p| p.to_array()).map(f64::to_bits));
+        v.extend(
+            [c.eye, c.dir, c.up]
+                .iter()
+                .flat_map(|p| p.to_array())
+                .map(f64::to_bits),
+        );
         v.extend(s.lights.iter().map(|l| l.intensity.to_bits()));
         v
     };
@@ -377,7 +565,15 @@ fn body_shared_by_objects_that_move_differently_is_refused() {
     let mut b = base();
     // The blade region also uses the hull body.
     b.geometry.regions[1] = region("blade", &[1, 0]);
-    let e = Timeline::new(spec(vec![now(Change::Spin { object: ROTOR, axis: MAST, degrees_per_frame: 1.0 })]), &b).unwrap_err();
+    let e = Timeline::new(
+        spec(vec![now(Change::Spin {
+            object: ROTOR,
+            axis: MAST,
+            degrees_per_frame: 1.0,
+        })]),
+        &b,
+    )
+    .unwrap_err();
     assert_eq!(
         e,
         vec![DirectorError::SharedBody {
@@ -387,13 +583,17 @@ fn body_shared_by_objects_that_move_differently_is_refused() {
             second: Owner::Object("ROTOR".into()),
         }]
     );
-    assert_eq!(e[0].to_string(), "body `hull` is shared by objects `HELICOPTER` and `ROTOR`, which move differently");
+    assert_eq!(
+        e[0].to_string(),
+        "body `hull` is shared by objects `HELICOPTER` and `ROTOR`, which move differently"
+    );
     // When only the helicopter moves, both move together: allowed.
     assert!(Timeline::new(spec(vec![now(mv(Target::Object(HELI), 1.0, 0.0, 0.0))]), &b).is_ok());
     // A static region sharing a moving body.
     let mut b = base();
     b.geometry.regions[2] = region("ground", &[2, 0]);
-    let e = Timeline::new(spec(vec![now(mv(Target::Object(HELI), 1.0, 0.0, 0.0))]), &b).unwrap_err();
+    let e =
+        Timeline::new(spec(vec![now(mv(Target::Object(HELI), 1.0, 0.0, 0.0))]), &b).unwrap_err();
     assert_eq!(
         e[0].to_string(),
         "body `hull` is shared by object `HELICOPTER`, which moves, and region `ground`, which is in no object"
@@ -407,12 +607,22 @@ fn containment_errors() {
     assert_eq!(
         Timeline::new(s, &base()).unwrap_err(),
         vec![
-            DirectorError::Cycle { object: 0, name: "HELICOPTER".into() },
-            DirectorError::Cycle { object: 1, name: "ROTOR".into() }
+            DirectorError::Cycle {
+                object: 0,
+                name: "HELICOPTER".into()
+            },
+            DirectorError::Cycle {
+                object: 1,
+                name: "ROTOR".into()
+            }
         ]
     );
     let mut s = spec(vec![]);
-    s.objects.push(Object { name: "OTHER".into(), regions: vec![], children: vec![ROTOR] });
+    s.objects.push(Object {
+        name: "OTHER".into(),
+        regions: vec![],
+        children: vec![ROTOR],
+    });
     assert_eq!(
         Timeline::new(s, &base()).unwrap_err()[0].to_string(),
         "object `ROTOR` is contained in both `HELICOPTER` and `OTHER`"
@@ -420,9 +630,18 @@ fn containment_errors() {
     let mut s = spec(vec![now(turn(Target::Object(7), 9, 1.0))]);
     s.axes[0].dir = DVec3::ZERO;
     let e = Timeline::new(s, &base()).unwrap_err();
-    assert!(e.contains(&DirectorError::BadIndex { what: "object", index: 7 }));
-    assert!(e.contains(&DirectorError::BadIndex { what: "axis", index: 9 }));
-    assert!(e.contains(&DirectorError::BadAxis { axis: 0, name: "A".into() }));
+    assert!(e.contains(&DirectorError::BadIndex {
+        what: "object",
+        index: 7
+    }));
+    assert!(e.contains(&DirectorError::BadIndex {
+        what: "axis",
+        index: 9
+    }));
+    assert!(e.contains(&DirectorError::BadAxis {
+        axis: 0,
+        name: "A".into()
+    }));
 }
 
 #[test]
@@ -436,5 +655,10 @@ fn fingerprint_follows_the_film_and_the_scene() {
     assert_ne!(a, timeline(steps).fingerprint(&b));
     let mut b2 = base();
     b2.ambient = 0.3;
-    assert_ne!(a, Timeline::new(spec(everything()), &b2).expect("valid").fingerprint(&b2));
+    assert_ne!(
+        a,
+        Timeline::new(spec(everything()), &b2)
+            .expect("valid")
+            .fingerprint(&b2)
+    );
 }

@@ -155,7 +155,10 @@ pub enum FilmError {
 }
 
 fn io_err(path: &Path) -> impl FnOnce(io::Error) -> FilmError + '_ {
-    move |source| FilmError::Io { path: path.to_owned(), source }
+    move |source| FilmError::Io {
+        path: path.to_owned(),
+        source,
+    }
 }
 
 /// The PNG of a frame: `DIR/frame_000042.png`.
@@ -170,13 +173,17 @@ pub fn hash_path(dir: &Path, frame: usize) -> PathBuf {
 
 /// True when the frame's PNG exists and was made with `hash`.
 pub fn frame_done(dir: &Path, frame: usize, hash: &str) -> bool {
-    frame_path(dir, frame).is_file() && std::fs::read_to_string(hash_path(dir, frame)).is_ok_and(|h| h == hash)
+    frame_path(dir, frame).is_file()
+        && std::fs::read_to_string(hash_path(dir, frame)).is_ok_and(|h| h == hash)
 }
 
 /// Write a file through a temporary file in the same folder, renamed into
 /// place only when `write` succeeds: readers see the old file or the whole
 /// new one, never a part, and a failure leaves nothing behind.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> io::Result<()> {
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -196,17 +203,29 @@ fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {
     let mut enc_err = None;
     let r = write_atomically(path, |w| {
         let enc = image::codecs::png::PngEncoder::new(w);
-        image::ImageEncoder::write_image(enc, img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
-            .map_err(|e| {
-                let msg = e.to_string();
-                enc_err = Some(msg.clone());
-                io::Error::other(msg)
-            })
+        image::ImageEncoder::write_image(
+            enc,
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| {
+            let msg = e.to_string();
+            enc_err = Some(msg.clone());
+            io::Error::other(msg)
+        })
     });
     match (r, enc_err) {
         (Ok(()), _) => Ok(()),
-        (Err(_), Some(message)) => Err(FilmError::Image { path: path.to_owned(), message }),
-        (Err(e), None) => Err(FilmError::Io { path: path.to_owned(), source: e }),
+        (Err(_), Some(message)) => Err(FilmError::Image {
+            path: path.to_owned(),
+            message,
+        }),
+        (Err(e), None) => Err(FilmError::Io {
+            path: path.to_owned(),
+            source: e,
+        }),
     }
 }
 
@@ -216,7 +235,12 @@ fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {
 /// threads), counting frames of the range. Returns the frames rendered and
 /// those found done. Stops at the first failing frame; frames finished by
 /// then are kept.
-pub fn render_frames<R, P>(total: usize, opts: &FilmOptions, render: R, progress: P) -> Result<(Vec<usize>, Vec<usize>), FilmError>
+pub fn render_frames<R, P>(
+    total: usize,
+    opts: &FilmOptions,
+    render: R,
+    progress: P,
+) -> Result<(Vec<usize>, Vec<usize>), FilmError>
 where
     R: Fn(usize) -> FrameResult + Sync,
     P: Fn(usize, usize) + Sync,
@@ -225,18 +249,23 @@ where
     let hashes = dir.join("hashes");
     std::fs::create_dir_all(&hashes).map_err(io_err(&hashes))?;
     let range = opts.frames.start.min(total)..opts.frames.end.min(total);
-    let (reused, todo): (Vec<usize>, Vec<usize>) = range.clone().partition(|&f| frame_done(dir, f, &opts.hash));
+    let (reused, todo): (Vec<usize>, Vec<usize>) =
+        range.clone().partition(|&f| frame_done(dir, f, &opts.hash));
     let n = range.len();
     let done = AtomicUsize::new(reused.len());
     progress(reused.len(), n);
-    todo.par_iter().try_for_each(|&f| -> Result<(), FilmError> {
-        let img = render(f).map_err(|e| FilmError::Render { frame: f, message: e.to_string() })?;
-        write_png(&frame_path(dir, f), &img)?;
-        let hp = hash_path(dir, f);
-        write_atomically(&hp, |w| w.write_all(opts.hash.as_bytes())).map_err(io_err(&hp))?;
-        progress(done.fetch_add(1, Ordering::SeqCst) + 1, n);
-        Ok(())
-    })?;
+    todo.par_iter()
+        .try_for_each(|&f| -> Result<(), FilmError> {
+            let img = render(f).map_err(|e| FilmError::Render {
+                frame: f,
+                message: e.to_string(),
+            })?;
+            write_png(&frame_path(dir, f), &img)?;
+            let hp = hash_path(dir, f);
+            write_atomically(&hp, |w| w.write_all(opts.hash.as_bytes())).map_err(io_err(&hp))?;
+            progress(done.fetch_add(1, Ordering::SeqCst) + 1, n);
+            Ok(())
+        })?;
     Ok((todo, reused))
 }
 
@@ -244,15 +273,29 @@ where
 /// is done, assemble the GIF, the MP4 (if ffmpeg is found) and the contact
 /// sheet. A missing or failing ffmpeg is reported in
 /// [`FilmReport::mp4`], never as an error.
-pub fn make_film<R, P>(total: usize, opts: &FilmOptions, render: R, progress: P) -> Result<FilmReport, FilmError>
+pub fn make_film<R, P>(
+    total: usize,
+    opts: &FilmOptions,
+    render: R,
+    progress: P,
+) -> Result<FilmReport, FilmError>
 where
     R: Fn(usize) -> FrameResult + Sync,
     P: Fn(usize, usize) + Sync,
 {
     let (rendered, reused) = render_frames(total, opts, render, progress)?;
     let dir = &opts.out_dir;
-    let missing: Vec<usize> = (0..total).filter(|&f| !opts.frames.contains(&f) && !frame_done(dir, f, &opts.hash)).collect();
-    let mut report = FilmReport { rendered, reused, missing, gif: None, mp4: Mp4Status::NotMade, contact_sheet: None };
+    let missing: Vec<usize> = (0..total)
+        .filter(|&f| !opts.frames.contains(&f) && !frame_done(dir, f, &opts.hash))
+        .collect();
+    let mut report = FilmReport {
+        rendered,
+        reused,
+        missing,
+        gif: None,
+        mp4: Mp4Status::NotMade,
+        contact_sheet: None,
+    };
     if !report.missing.is_empty() || total == 0 {
         return Ok(report);
     }
@@ -262,12 +305,19 @@ where
         report.gif = Some(p);
     }
     let p = dir.join("contact.png");
-    let every = if opts.contact_every == 0 { total.div_ceil(48).max(1) } else { opts.contact_every };
+    let every = if opts.contact_every == 0 {
+        total.div_ceil(48).max(1)
+    } else {
+        opts.contact_every
+    };
     let sheet = contact_sheet(dir, total, every, opts.contact_columns, opts.thumb_width)?;
     write_png(&p, &sheet)?;
     report.contact_sheet = Some(p);
     if opts.mp4 {
-        let ffmpeg = opts.ffmpeg.clone().or_else(|| find_program("ffmpeg", std::env::var_os("PATH")));
+        let ffmpeg = opts
+            .ffmpeg
+            .clone()
+            .or_else(|| find_program("ffmpeg", std::env::var_os("PATH")));
         report.mp4 = match ffmpeg {
             None => Mp4Status::FfmpegNotFound,
             Some(ff) => write_mp4(&ff, dir, total, opts.fps),
@@ -280,7 +330,9 @@ where
 /// value.
 pub fn find_program(name: &str, path: Option<std::ffi::OsString>) -> Option<PathBuf> {
     let path = path?;
-    std::env::split_paths(&path).map(|d| d.join(name)).find(|p| is_executable(p))
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| is_executable(p))
 }
 
 #[cfg(unix)]
@@ -296,25 +348,49 @@ fn is_executable(p: &Path) -> bool {
 
 fn read_frame(dir: &Path, f: usize) -> Result<image::RgbaImage, FilmError> {
     let p = frame_path(dir, f);
-    image::open(&p).map(|i| i.to_rgba8()).map_err(|e| FilmError::Image { path: p, message: e.to_string() })
+    image::open(&p)
+        .map(|i| i.to_rgba8())
+        .map_err(|e| FilmError::Image {
+            path: p,
+            message: e.to_string(),
+        })
 }
 
 /// GIF delays in hundredths of a second, rounded so that the film keeps
 /// its total length (24 fps alternates 4 and 5).
 pub fn gif_delays(frames: usize, fps: f64) -> Vec<u16> {
-    let fps = if fps.is_finite() && fps > 0.0 { fps } else { 24.0 };
+    let fps = if fps.is_finite() && fps > 0.0 {
+        fps
+    } else {
+        24.0
+    };
     let at = |i: usize| (i as f64 * 100.0 / fps).round();
-    (0..frames).map(|i| (at(i + 1) - at(i)).clamp(1.0, u16::MAX as f64) as u16).collect()
+    (0..frames)
+        .map(|i| (at(i + 1) - at(i)).clamp(1.0, u16::MAX as f64) as u16)
+        .collect()
 }
 
-fn write_gif(dir: &Path, total: usize, fps: f64, max_width: u32, out: &Path) -> Result<(), FilmError> {
+fn write_gif(
+    dir: &Path,
+    total: usize,
+    fps: f64,
+    max_width: u32,
+    out: &Path,
+) -> Result<(), FilmError> {
     let first = read_frame(dir, 0)?;
     let (w0, h0) = first.dimensions();
-    let scale = if max_width > 0 && w0 > max_width { max_width as f64 / w0 as f64 } else { 1.0 };
+    let scale = if max_width > 0 && w0 > max_width {
+        max_width as f64 / w0 as f64
+    } else {
+        1.0
+    };
     let w = ((w0 as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
     let h = ((h0 as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
     let delays = gif_delays(total, fps);
-    let gif_err = |e: gif::EncodingError| FilmError::Image { path: out.to_owned(), message: e.to_string() };
+    let gif_err = |e: gif::EncodingError| FilmError::Image {
+        path: out.to_owned(),
+        message: e.to_string(),
+    };
     let mut failure: Option<FilmError> = None;
     let r = write_atomically(out, |wr| {
         let run = || -> Result<(), FilmError> {
@@ -328,10 +404,16 @@ fn write_gif(dir: &Path, total: usize, fps: f64, max_width: u32, out: &Path) -> 
                     .map(|&f| {
                         let mut img = read_frame(dir, f)?;
                         if img.dimensions() != (w, h) {
-                            img = image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle);
+                            img = image::imageops::resize(
+                                &img,
+                                w,
+                                h,
+                                image::imageops::FilterType::Triangle,
+                            );
                         }
                         let mut raw = img.into_raw();
-                        let mut frame = gif::Frame::from_rgba_speed(w as u16, h as u16, &mut raw, 10);
+                        let mut frame =
+                            gif::Frame::from_rgba_speed(w as u16, h as u16, &mut raw, 10);
                         frame.delay = delays[f];
                         Ok(frame)
                     })
@@ -351,7 +433,10 @@ fn write_gif(dir: &Path, total: usize, fps: f64, max_width: u32, out: &Path) -> 
     match (r, failure) {
         (Ok(()), _) => Ok(()),
         (Err(_), Some(e)) => Err(e),
-        (Err(e), None) => Err(FilmError::Io { path: out.to_owned(), source: e }),
+        (Err(e), None) => Err(FilmError::Io {
+            path: out.to_owned(),
+            source: e,
+        }),
     }
 }
 
@@ -360,18 +445,30 @@ fn write_gif(dir: &Path, total: usize, fps: f64, max_width: u32, out: &Path) -> 
 /// size is `columns·thumb_width` by `rows·thumb_height` (fewer columns when
 /// there are fewer thumbnails), where the thumbnail height keeps the first
 /// frame's aspect ratio.
-pub fn contact_sheet(dir: &Path, total: usize, every: usize, columns: u32, thumb_width: u32) -> Result<RgbImage, FilmError> {
+pub fn contact_sheet(
+    dir: &Path,
+    total: usize,
+    every: usize,
+    columns: u32,
+    thumb_width: u32,
+) -> Result<RgbImage, FilmError> {
     let picks: Vec<usize> = (0..total).step_by(every.max(1)).collect();
     let first = read_frame(dir, 0)?;
     let tw = thumb_width.max(1);
-    let th = ((tw as f64 * first.height() as f64 / first.width().max(1) as f64).round() as u32).max(1);
+    let th =
+        ((tw as f64 * first.height() as f64 / first.width().max(1) as f64).round() as u32).max(1);
     let cols = columns.max(1).min(picks.len().max(1) as u32);
     let rows = (picks.len() as u32).div_ceil(cols).max(1);
     let thumbs: Vec<Result<RgbImage, FilmError>> = picks
         .par_iter()
         .map(|&f| {
             let img = image::DynamicImage::ImageRgba8(read_frame(dir, f)?).to_rgb8();
-            Ok(image::imageops::resize(&img, tw, th, image::imageops::FilterType::Triangle))
+            Ok(image::imageops::resize(
+                &img,
+                tw,
+                th,
+                image::imageops::FilterType::Triangle,
+            ))
         })
         .collect();
     let mut sheet = RgbImage::new(cols * tw, rows * th);
@@ -394,7 +491,14 @@ fn write_mp4(ffmpeg: &Path, dir: &Path, total: usize, fps: f64) -> Mp4Status {
         .arg(dir.join("frame_%06d.png"))
         .arg("-frames:v")
         .arg(total.to_string())
-        .args(["-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"])
+        .args([
+            "-c:v",
+            "libx264",
+            "-pix_fmt",
+            "yuv420p",
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+        ])
         .arg(&tmp)
         .stdin(std::process::Stdio::null())
         .output();
@@ -406,7 +510,13 @@ fn write_mp4(ffmpeg: &Path, dir: &Path, total: usize, fps: f64) -> Mp4Status {
         Ok(o) => {
             let _ = std::fs::remove_file(&tmp);
             let err = String::from_utf8_lossy(&o.stderr);
-            Mp4Status::Failed(err.lines().last().unwrap_or("no message").trim().to_string())
+            Mp4Status::Failed(
+                err.lines()
+                    .last()
+                    .unwrap_or("no message")
+                    .trim()
+                    .to_string(),
+            )
         }
         Err(e) => Mp4Status::Failed(e.to_string()),
     }

@@ -14,7 +14,11 @@ fn colour(f: usize) -> Rgb<u8> {
 }
 
 fn picture(f: usize) -> RgbImage {
-    RgbImage::from_fn(W, H, |x, _| if x < W / 2 { colour(f) } else { Rgb([0, 0, 0]) })
+    RgbImage::from_fn(
+        W,
+        H,
+        |x, _| if x < W / 2 { colour(f) } else { Rgb([0, 0, 0]) },
+    )
 }
 
 fn opts(dir: &Path, hash: &str) -> FilmOptions {
@@ -25,7 +29,11 @@ fn opts(dir: &Path, hash: &str) -> FilmOptions {
 
 fn files(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
-        .map(|rd| rd.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
         .unwrap_or_default();
     v.sort();
     v
@@ -80,11 +88,15 @@ fn interrupted_run_leaves_whole_frames_only_and_resumes() {
     // Every PNG present is whole; no temporary files are left.
     let names = files(&dir);
     assert!(names.iter().all(|n| !n.starts_with(".tmp")), "{names:?}");
-    assert!(files(&dir.join("hashes")).iter().all(|n| !n.starts_with(".tmp")));
+    assert!(files(&dir.join("hashes"))
+        .iter()
+        .all(|n| !n.starts_with(".tmp")));
     let done: Vec<usize> = (0..12).filter(|&f| frame_done(&dir, f, "h")).collect();
     assert!(!done.contains(&7));
     for &f in &done {
-        let img = image::open(frame_path(&dir, f)).expect("whole PNG").to_rgb8();
+        let img = image::open(frame_path(&dir, f))
+            .expect("whole PNG")
+            .to_rgb8();
         assert_eq!(img, picture(f));
     }
     // The next run renders exactly the frames that were not done.
@@ -135,7 +147,10 @@ fn gif_has_every_frame_and_is_scaled() {
     o.fps = 24.0;
     let r = make_film(6, &o, |f| Ok(picture(f)), |_, _| {}).expect("run");
     let gif = r.gif.expect("gif made");
-    let dec = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(std::fs::File::open(gif).expect("open"))).expect("gif");
+    let dec = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(gif).expect("open"),
+    ))
+    .expect("gif");
     let frames = dec.into_frames().collect_frames().expect("frames");
     assert_eq!(frames.len(), 6);
     for (i, fr) in frames.iter().enumerate() {
@@ -144,7 +159,10 @@ fn gif_has_every_frame_and_is_scaled() {
         let p = fr.buffer().get_pixel(4, 12);
         let c = colour(i);
         for k in 0..3 {
-            assert!((p[k] as i32 - c[k] as i32).abs() <= 8, "frame {i}: {p:?} vs {c:?}");
+            assert!(
+                (p[k] as i32 - c[k] as i32).abs() <= 8,
+                "frame {i}: {p:?} vs {c:?}"
+            );
         }
     }
 }
@@ -165,7 +183,9 @@ fn contact_sheet_has_a_thumbnail_of_every_nth_frame() {
     o.contact_columns = 3;
     o.thumb_width = 40;
     let r = make_film(10, &o, |f| Ok(picture(f)), |_, _| {}).expect("run");
-    let sheet = image::open(r.contact_sheet.expect("sheet")).expect("png").to_rgb8();
+    let sheet = image::open(r.contact_sheet.expect("sheet"))
+        .expect("png")
+        .to_rgb8();
     // Frames 0, 3, 6, 9 in 3 columns: 2 rows of 40×30 thumbnails.
     assert_eq!(sheet.dimensions(), (120, 60));
     for (i, f) in [0usize, 3, 6, 9].into_iter().enumerate() {
@@ -180,7 +200,13 @@ fn contact_sheet_has_a_thumbnail_of_every_nth_frame() {
 fn progress_counts_up_to_the_range() {
     let tmp = tempfile::tempdir().expect("temp dir");
     let seen = Mutex::new(Vec::new());
-    make_film(5, &opts(tmp.path(), "h"), |f| Ok(picture(f)), |d, t| seen.lock().expect("lock").push((d, t))).expect("run");
+    make_film(
+        5,
+        &opts(tmp.path(), "h"),
+        |f| Ok(picture(f)),
+        |d, t| seen.lock().expect("lock").push((d, t)),
+    )
+    .expect("run");
     let mut seen = seen.into_inner().expect("lock");
     seen.sort();
     assert_eq!(seen, vec![(0, 5), (1, 5), (2, 5), (3, 5), (4, 5), (5, 5)]);
@@ -196,8 +222,17 @@ fn frames_do_not_depend_on_the_order_they_were_made() {
         o.frames = range;
         make_film(8, &o, |f| Ok(picture(f)), |_, _| {}).expect("run");
     }
-    for name in ["frame_000000.png", "frame_000005.png", "film.gif", "contact.png"] {
-        assert_eq!(std::fs::read(a.path().join(name)).ok(), std::fs::read(b.path().join(name)).ok(), "{name}");
+    for name in [
+        "frame_000000.png",
+        "frame_000005.png",
+        "film.gif",
+        "contact.png",
+    ] {
+        assert_eq!(
+            std::fs::read(a.path().join(name)).ok(),
+            std::fs::read(b.path().join(name)).ok(),
+            "{name}"
+        );
     }
 }
 
@@ -215,11 +250,23 @@ fn fake_program(dir: &Path, body: &str) -> std::path::PathBuf {
 fn mp4_uses_ffmpeg_and_never_fails_the_film() {
     let bin = tempfile::tempdir().expect("temp dir");
     // Not on an empty PATH.
-    assert_eq!(find_program("ffmpeg", Some(bin.path().as_os_str().to_owned())), None);
-    assert_eq!(Mp4Status::FfmpegNotFound.to_string(), "ffmpeg not found: MP4 skipped");
+    assert_eq!(
+        find_program("ffmpeg", Some(bin.path().as_os_str().to_owned())),
+        None
+    );
+    assert_eq!(
+        Mp4Status::FfmpegNotFound.to_string(),
+        "ffmpeg not found: MP4 skipped"
+    );
     // A stand-in that writes its last argument, as ffmpeg writes its output.
-    let ok = fake_program(bin.path(), "for a; do last=$a; done; echo video > \"$last\"");
-    assert_eq!(find_program("ffmpeg", Some(bin.path().as_os_str().to_owned())), Some(ok.clone()));
+    let ok = fake_program(
+        bin.path(),
+        "for a; do last=$a; done; echo video > \"$last\"",
+    );
+    assert_eq!(
+        find_program("ffmpeg", Some(bin.path().as_os_str().to_owned())),
+        Some(ok.clone())
+    );
     let out = tempfile::tempdir().expect("temp dir");
     let mut o = opts(out.path(), "h");
     o.mp4 = true;
@@ -245,6 +292,9 @@ fn mp4_uses_ffmpeg_and_never_fails_the_film() {
     let r = make_film(2, &o, |f| Ok(picture(f)), |_, _| {}).expect("run");
     match find_program("ffmpeg", std::env::var_os("PATH")) {
         None => assert_eq!(r.mp4, Mp4Status::FfmpegNotFound),
-        Some(_) => assert!(matches!(r.mp4, Mp4Status::Written(_) | Mp4Status::Failed(_))),
+        Some(_) => assert!(matches!(
+            r.mp4,
+            Mp4Status::Written(_) | Mp4Status::Failed(_)
+        )),
     }
 }

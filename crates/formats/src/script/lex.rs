@@ -89,20 +89,31 @@ pub(crate) fn tokens(line_no: usize, line: &str) -> Result<Vec<Token>, Untermina
             }
             '"' => {
                 let Some(end) = chars[i + 1..].iter().position(|&c| c == '"') else {
-                    return Err(Unterminated { col: i + 1, len: chars.len() - i });
+                    return Err(Unterminated {
+                        col: i + 1,
+                        len: chars.len() - i,
+                    });
                 };
                 let s: String = chars[i + 1..i + 1 + end].iter().collect();
                 i += end + 2;
                 Tok::Str(s)
             }
             _ => {
-                while i < chars.len() && !chars[i].is_whitespace() && !matches!(chars[i], '(' | ')' | ',' | '"' | '#') {
+                while i < chars.len()
+                    && !chars[i].is_whitespace()
+                    && !matches!(chars[i], '(' | ')' | ',' | '"' | '#')
+                {
                     i += 1;
                 }
                 Tok::Word(chars[start..i].iter().collect())
             }
         };
-        out.push(Token { tok, line: line_no, col: start + 1, len: i - start });
+        out.push(Token {
+            tok,
+            line: line_no,
+            col: start + 1,
+            len: i - start,
+        });
     }
     Ok(out)
 }
@@ -115,9 +126,14 @@ mod tests {
     fn paper_command_splits_into_words_and_punctuation() {
         let t = tokens(1, "TURN HELICOPTER (AXIS 1,15)  # comment").unwrap_or_default();
         let shown: Vec<String> = t.iter().map(Token::shown).collect();
-        assert_eq!(shown, ["TURN", "HELICOPTER", "(", "AXIS", "1", ",", "15", ")"]);
+        assert_eq!(
+            shown,
+            ["TURN", "HELICOPTER", "(", "AXIS", "1", ",", "15", ")"]
+        );
         assert_eq!((t[2].col, t[6].col, t[6].len), (17, 25, 2));
-        assert!(tokens(2, "  * a comment card").unwrap_or_default().is_empty());
+        assert!(tokens(2, "  * a comment card")
+            .unwrap_or_default()
+            .is_empty());
         assert!(tokens(3, "SCENE \"a.sv").is_err());
     }
 }

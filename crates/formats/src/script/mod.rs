@@ -61,13 +61,18 @@
 mod lex;
 mod parse;
 
-pub use parse::{parse, AimAst, AxisAst, Block, CameraAst, Cmd, CmdKind, Duration, Name, ObjectAst, ScriptAst, Span, TargetAst, KEYWORDS};
+pub use parse::{
+    parse, AimAst, AxisAst, Block, CameraAst, Cmd, CmdKind, Duration, Name, ObjectAst, ScriptAst,
+    Span, TargetAst, KEYWORDS,
+};
 
 use crate::diag::{did_you_mean, Diagnostic, Diagnostics, SourceFile};
 use crate::{load_file, LoadError, LoadOptions};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use sv_director::{AimPoint, Axis, Change, DirectorError, Object, Owner, Spec, Step, Target, Timed, Timeline, Zoom};
+use sv_director::{
+    AimPoint, Axis, Change, DirectorError, Object, Owner, Spec, Step, Target, Timed, Timeline, Zoom,
+};
 use sv_scene::{Camera, Lens, LightKind, Scene};
 
 /// A script read, its scene loaded and its timeline built.
@@ -104,8 +109,14 @@ pub enum ScriptError {
 /// Read a script file, load the scenes it names and build its timeline.
 /// Every error of the script and of its scenes is reported at once.
 pub fn load_script(path: &Path, opts: &LoadOptions) -> Result<Film, ScriptError> {
-    let bytes = std::fs::read(path).map_err(|source| ScriptError::Io { path: path.to_owned(), source })?;
-    let src = SourceFile::new(path.display().to_string(), String::from_utf8_lossy(&bytes).into_owned());
+    let bytes = std::fs::read(path).map_err(|source| ScriptError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let src = SourceFile::new(
+        path.display().to_string(),
+        String::from_utf8_lossy(&bytes).into_owned(),
+    );
     let dir = path.parent().unwrap_or(Path::new(""));
     load_source(&src, dir, opts)
 }
@@ -124,44 +135,63 @@ pub fn load_source(src: &SourceFile, dir: &Path, opts: &LoadOptions) -> Result<F
         match load_file(&path, opts) {
             Ok(loaded) => {
                 warnings.extend(loaded.warnings);
-                scene = Some(match scene.take() {
+                match scene.as_mut() {
                     None => {
                         first_name = name.clone();
-                        loaded.scene
+                        scene = Some(loaded.scene);
                     }
-                    Some(s) => match merge_scenes(s, loaded.scene) {
-                        Ok(m) => m,
-                        Err((s, region)) => {
+                    Some(s) => {
+                        if let Err(region) = merge_scenes(s, loaded.scene) {
                             diags.push(at(src, *span, format!("region `{region}` of `{name}` has the same name as a region of `{first_name}`")));
                             scene_ok = false;
-                            s
                         }
-                    },
-                });
+                    }
+                }
             }
             Err(LoadError::Io { source, .. }) => {
                 scene_ok = false;
-                diags.push(at(src, *span, format!("cannot read scene `{name}`: {source}")));
+                diags.push(at(
+                    src,
+                    *span,
+                    format!("cannot read scene `{name}`: {source}"),
+                ));
             }
             Err(LoadError::Invalid(d)) => {
                 scene_ok = false;
                 let n = d.errors().count();
-                diags.push(at(src, *span, format!("scene `{name}` has {n} error{}", if n == 1 { "" } else { "s" })));
+                diags.push(at(
+                    src,
+                    *span,
+                    format!(
+                        "scene `{name}` has {n} error{}",
+                        if n == 1 { "" } else { "s" }
+                    ),
+                ));
                 diags.items.extend(d.items);
             }
         }
     }
     let fail = |mut diags: Diagnostics| {
-        diags.items.sort_by_key(|d| if d.source.name == src.name { (0, d.offset) } else { (1, 0) });
+        diags.items.sort_by_key(|d| {
+            if d.source.name == src.name {
+                (0, d.offset)
+            } else {
+                (1, 0)
+            }
+        });
         ScriptError::Invalid(diags)
     };
     let Some(scene) = scene.filter(|_| scene_ok) else {
         return Err(fail(diags));
     };
     match resolve(src, &ast, &scene) {
-        Ok(timeline) if !diags.has_errors() => {
-            Ok(Film { source: src.clone(), scene_paths, scene, timeline, warnings })
-        }
+        Ok(timeline) if !diags.has_errors() => Ok(Film {
+            source: src.clone(),
+            scene_paths,
+            scene,
+            timeline,
+            warnings,
+        }),
         Ok(_) => Err(fail(diags)),
         Err(more) => {
             diags.items.extend(more.items);
@@ -184,13 +214,18 @@ pub fn build_timeline(src: &SourceFile, scene: &Scene) -> Result<Timeline, Diagn
     Err(diags)
 }
 
-/// The scene `b` added to `a`: bodies, regions and lights appended (body
+/// Add the scene `b` to `a`: bodies, regions and lights appended (body
 /// references shifted), camera and picture settings of `a` kept unless `a`
-/// has no camera. Fails, handing `a` back, when a region name is in both.
-pub fn merge_scenes(mut a: Scene, b: Scene) -> Result<Scene, (Scene, String)> {
-    if let Some(r) = b.geometry.regions.iter().find(|r| a.geometry.region_index(&r.name).is_some()) {
-        let name = r.name.clone();
-        return Err((a, name));
+/// has none. When a region name is in both, `a` is left unchanged and the
+/// name is returned.
+pub fn merge_scenes(a: &mut Scene, b: Scene) -> Result<(), String> {
+    if let Some(r) = b
+        .geometry
+        .regions
+        .iter()
+        .find(|r| a.geometry.region_index(&r.name).is_some())
+    {
+        return Err(r.name.clone());
     }
     let shift = a.geometry.bodies.len();
     a.geometry.bodies.extend(b.geometry.bodies);
@@ -206,7 +241,7 @@ pub fn merge_scenes(mut a: Scene, b: Scene) -> Result<Scene, (Scene, String)> {
     a.camera = a.camera.or(b.camera);
     a.size = a.size.or(b.size);
     a.notes.extend(b.notes);
-    Ok(a)
+    Ok(())
 }
 
 fn at(src: &SourceFile, s: Span, msg: impl Into<String>) -> Diagnostic {
@@ -255,7 +290,9 @@ impl Resolver<'_> {
     }
 
     fn find_light(&self, n: &str) -> Option<usize> {
-        self.light_names.iter().position(|l| l.eq_ignore_ascii_case(n))
+        self.light_names
+            .iter()
+            .position(|l| l.eq_ignore_ascii_case(n))
     }
 
     fn light(&mut self, n: &Name) -> Option<usize> {
@@ -271,8 +308,12 @@ impl Resolver<'_> {
         if !self.has_camera && !self.camera_reported {
             self.camera_reported = true;
             self.diags.push(
-                at(self.src, span, "the camera is not set: the scene has no CAMERA and the script none")
-                    .with_hint("add `CAMERA EYE (x,y,z) AT (x,y,z)` to the script"),
+                at(
+                    self.src,
+                    span,
+                    "the camera is not set: the scene has no CAMERA and the script none",
+                )
+                .with_hint("add `CAMERA EYE (x,y,z) AT (x,y,z)` to the script"),
             );
         }
         self.has_camera
@@ -291,7 +332,11 @@ impl Resolver<'_> {
                 match self.find_light(&n.text) {
                     Some(l) => Target::Light(l),
                     None => {
-                        let d = at(self.src, n.span, format!("unknown object or light `{}`", n.text));
+                        let d = at(
+                            self.src,
+                            n.span,
+                            format!("unknown object or light `{}`", n.text),
+                        );
                         let mut all = self.object_names.clone();
                         all.extend(self.light_names.iter().cloned());
                         all.push("CAMERA".into());
@@ -308,8 +353,15 @@ impl Resolver<'_> {
                     TargetAst::Camera(s) => *s,
                 };
                 self.diags.push(
-                    at(self.src, span, format!("light `{}` is parallel and cannot be moved", self.scene.lights[l].name))
-                        .with_hint("TURN it about an axis to change its direction"),
+                    at(
+                        self.src,
+                        span,
+                        format!(
+                            "light `{}` is parallel and cannot be moved",
+                            self.scene.lights[l].name
+                        ),
+                    )
+                    .with_hint("TURN it about an axis to change its direction"),
                 );
                 return None;
             }
@@ -319,18 +371,31 @@ impl Resolver<'_> {
 
     fn timed(&mut self, cmd: &Cmd) -> Option<Timed> {
         let change = match &cmd.kind {
-            CmdKind::Move(t, by) => Change::Move { target: self.target(t, true)?, by: *by },
+            CmdKind::Move(t, by) => Change::Move {
+                target: self.target(t, true)?,
+                by: *by,
+            },
             CmdKind::Turn(t, a, deg) => {
                 let target = self.target(t, false);
                 let axis = self.axis(a);
-                Change::Turn { target: target?, axis: axis?, degrees: *deg }
+                Change::Turn {
+                    target: target?,
+                    axis: axis?,
+                    degrees: *deg,
+                }
             }
             CmdKind::Spin(o, a, deg) => {
                 let object = self.object(o);
                 let axis = self.axis(a);
-                Change::Spin { object: object?, axis: axis?, degrees_per_frame: *deg }
+                Change::Spin {
+                    object: object?,
+                    axis: axis?,
+                    degrees_per_frame: *deg,
+                }
             }
-            CmdKind::Stop(o) => Change::Stop { object: self.object(o)? },
+            CmdKind::Stop(o) => Change::Stop {
+                object: self.object(o)?,
+            },
             CmdKind::StopTrack => Change::Track(None),
             CmdKind::Aim(a) => {
                 let point = match a {
@@ -360,22 +425,40 @@ impl Resolver<'_> {
                         Zoom::Focal { .. } => ("FOCAL", "a perspective"),
                         Zoom::Height(_) => ("HEIGHT", "an orthographic"),
                     };
-                    self.diags.push(at(self.src, cmd.span, format!("ZOOM {what} needs {needs} camera")));
+                    self.diags.push(at(
+                        self.src,
+                        cmd.span,
+                        format!("ZOOM {what} needs {needs} camera"),
+                    ));
                     return None;
                 }
                 Change::Zoom(*z)
             }
-            CmdKind::Intensity(n, v) => Change::Intensity { light: self.light(n)?, value: *v },
+            CmdKind::Intensity(n, v) => Change::Intensity {
+                light: self.light(n)?,
+                value: *v,
+            },
         };
         let (frames, easing) = match cmd.over {
             None => (0, Default::default()),
             Some((Duration::Frames(n), e)) => (n, e),
             Some((Duration::Seconds(s), e)) => {
                 let n = (s * self.fps).round();
-                (if n.is_finite() && n >= 1.0 { (n as usize).min(sv_director::MAX_FRAMES) } else { 1 }, e)
+                (
+                    if n.is_finite() && n >= 1.0 {
+                        (n as usize).min(sv_director::MAX_FRAMES)
+                    } else {
+                        1
+                    },
+                    e,
+                )
             }
         };
-        Some(Timed { change, frames, easing })
+        Some(Timed {
+            change,
+            frames,
+            easing,
+        })
     }
 
     fn blocks(&mut self, blocks: &[Block]) -> Vec<Step> {
@@ -405,7 +488,10 @@ impl Resolver<'_> {
 /// Look every name of a parsed script up in its scene and build the
 /// timeline. All problems are reported together.
 pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timeline, Diagnostics> {
-    let camera = ast.camera.as_ref().map(|c| Camera::looking_at(c.eye, c.at, c.up, c.lens));
+    let camera = ast
+        .camera
+        .as_ref()
+        .map(|c| Camera::looking_at(c.eye, c.at, c.up, c.lens));
     let start_camera = camera.or(scene.camera);
     let mut r = Resolver {
         src,
@@ -416,7 +502,13 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
         axis_names: Vec::new(),
         light_names: scene.lights.iter().map(|l| l.name.clone()).collect(),
         has_camera: start_camera.is_some(),
-        ortho: matches!(start_camera, Some(Camera { lens: Lens::Ortho { .. }, .. })),
+        ortho: matches!(
+            start_camera,
+            Some(Camera {
+                lens: Lens::Ortho { .. },
+                ..
+            })
+        ),
         camera_reported: false,
         diags: Diagnostics::default(),
         fps: ast.fps.map_or(24.0, |f| f.0),
@@ -426,14 +518,26 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
     for o in &ast.objects {
         let key = o.name.text.to_ascii_uppercase();
         if let Some(line) = first_line.get(&key) {
-            r.diags.push(at(src, o.name.span, format!("object `{}` is already declared on line {line}", o.name.text)));
+            r.diags.push(at(
+                src,
+                o.name.span,
+                format!(
+                    "object `{}` is already declared on line {line}",
+                    o.name.text
+                ),
+            ));
             continue;
         }
         first_line.insert(key.clone(), o.name.span.line);
         r.objects.insert(key, r.object_names.len());
         r.object_names.push(o.name.text.clone());
     }
-    let region_names: Vec<String> = scene.geometry.regions.iter().map(|g| g.name.clone()).collect();
+    let region_names: Vec<String> = scene
+        .geometry
+        .regions
+        .iter()
+        .map(|g| g.name.clone())
+        .collect();
     let mut objects: Vec<Object> = Vec::new();
     let mut object_ast: Vec<&ObjectAst> = Vec::new();
     for o in &ast.objects {
@@ -443,7 +547,10 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
         let mut regions = Vec::new();
         for n in &o.regions {
             let found = scene.geometry.region_index(&n.text).or_else(|| {
-                let mut it = region_names.iter().enumerate().filter(|(_, g)| g.eq_ignore_ascii_case(&n.text));
+                let mut it = region_names
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, g)| g.eq_ignore_ascii_case(&n.text));
                 match (it.next(), it.next()) {
                     (Some((i, _)), None) => Some(i),
                     _ => None,
@@ -458,7 +565,11 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
             }
         }
         let children = o.contains.iter().filter_map(|c| r.object(c)).collect();
-        objects.push(Object { name: o.name.text.clone(), regions, children });
+        objects.push(Object {
+            name: o.name.text.clone(),
+            regions,
+            children,
+        });
         object_ast.push(o);
     }
     let mut axis_line: HashMap<String, usize> = HashMap::new();
@@ -466,7 +577,11 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
     for a in &ast.axes {
         let key = a.name.text.to_ascii_uppercase();
         if let Some(line) = axis_line.get(&key) {
-            r.diags.push(at(src, a.name.span, format!("axis `{}` is already declared on line {line}", a.name.text)));
+            r.diags.push(at(
+                src,
+                a.name.span,
+                format!("axis `{}` is already declared on line {line}", a.name.text),
+            ));
             continue;
         }
         let on = match &a.on {
@@ -479,7 +594,12 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
         axis_line.insert(key.clone(), a.name.span.line);
         r.axes.insert(key, axes.len());
         r.axis_names.push(a.name.text.clone());
-        axes.push(Axis { name: a.name.text.clone(), point: a.point, dir: a.dir, on });
+        axes.push(Axis {
+            name: a.name.text.clone(),
+            point: a.point,
+            dir: a.dir,
+            on,
+        });
     }
     let steps = r.blocks(&ast.blocks);
     let mut diags = r.diags;
@@ -507,9 +627,22 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
     }
 }
 
-fn director_error(src: &SourceFile, ast: &ScriptAst, objects: &[&ObjectAst], e: DirectorError) -> Diagnostic {
+fn director_error(
+    src: &SourceFile,
+    ast: &ScriptAst,
+    objects: &[&ObjectAst],
+    e: DirectorError,
+) -> Diagnostic {
     let object_span = |name: &str| {
-        objects.iter().find(|o| o.name.text == name).map(|o| o.name.span).unwrap_or(Span { line: 1, col: 1, len: 0 })
+        objects
+            .iter()
+            .find(|o| o.name.text == name)
+            .map(|o| o.name.span)
+            .unwrap_or(Span {
+                line: 1,
+                col: 1,
+                len: 0,
+            })
     };
     match &e {
         DirectorError::Cycle { name, .. } => at(src, object_span(name), e.to_string()),
@@ -517,22 +650,37 @@ fn director_error(src: &SourceFile, ast: &ScriptAst, objects: &[&ObjectAst], e: 
             let span = objects
                 .iter()
                 .find(|o| &o.name.text == second)
-                .and_then(|o| o.contains.iter().find(|c| c.text.eq_ignore_ascii_case(name)))
+                .and_then(|o| {
+                    o.contains
+                        .iter()
+                        .find(|c| c.text.eq_ignore_ascii_case(name))
+                })
                 .map_or(object_span(second), |c| c.span);
             at(src, span, e.to_string())
         }
         DirectorError::SharedBody { first, second, .. } => {
             let span = match (second, first) {
                 (Owner::Object(o), _) | (Owner::Region(_), Owner::Object(o)) => object_span(o),
-                _ => Span { line: 1, col: 1, len: 0 },
+                _ => Span {
+                    line: 1,
+                    col: 1,
+                    len: 0,
+                },
             };
             at(src, span, e.to_string()).with_hint("give each object its own copy of the body")
         }
         _ => {
-            let span = ast.blocks.first().map_or(Span { line: 1, col: 1, len: 0 }, |b| match b {
-                Block::Cmd(c) => c.span,
-                Block::Together(_, s) | Block::Shoot(_, s) | Block::Repeat(_, _, s) => *s,
-            });
+            let span = ast.blocks.first().map_or(
+                Span {
+                    line: 1,
+                    col: 1,
+                    len: 0,
+                },
+                |b| match b {
+                    Block::Cmd(c) => c.span,
+                    Block::Together(_, s) | Block::Shoot(_, s) | Block::Repeat(_, _, s) => *s,
+                },
+            );
             at(src, span, e.to_string())
         }
     }

@@ -18,7 +18,11 @@ pub struct Span {
 
 impl Span {
     fn of(t: &Token) -> Span {
-        Span { line: t.line, col: t.col, len: t.len }
+        Span {
+            line: t.line,
+            col: t.col,
+            len: t.len,
+        }
     }
 }
 
@@ -33,7 +37,10 @@ pub struct Name {
 
 impl Name {
     fn of(t: &Token) -> Name {
-        Name { text: t.shown(), span: Span::of(t) }
+        Name {
+            text: t.shown(),
+            span: Span::of(t),
+        }
     }
 }
 
@@ -174,8 +181,26 @@ pub struct ScriptAst {
 
 /// Every statement keyword, for suggestions.
 pub const KEYWORDS: &[&str] = &[
-    "SCENE", "FPS", "SIZE", "CAMERA", "OBJECT", "AXIS", "MOVE", "TURN", "SPIN", "STOP", "AIM", "TRACK", "ZOOM", "INTENSITY",
-    "SHOOT", "FRAME", "HOLD", "REPEAT", "TOGETHER", "END",
+    "SCENE",
+    "FPS",
+    "SIZE",
+    "CAMERA",
+    "OBJECT",
+    "AXIS",
+    "MOVE",
+    "TURN",
+    "SPIN",
+    "STOP",
+    "AIM",
+    "TRACK",
+    "ZOOM",
+    "INTENSITY",
+    "SHOOT",
+    "FRAME",
+    "HOLD",
+    "REPEAT",
+    "TOGETHER",
+    "END",
 ];
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -208,7 +233,13 @@ impl<'a> Line<'a> {
     }
 
     fn missing(&self, what: &str) -> Diagnostic {
-        Diagnostic::error_at(self.src, self.line, self.end_col, 0, format!("expected {what} at the end of the line"))
+        Diagnostic::error_at(
+            self.src,
+            self.line,
+            self.end_col,
+            0,
+            format!("expected {what} at the end of the line"),
+        )
     }
 
     fn expected(&self, t: &Token, what: &str) -> Diagnostic {
@@ -350,7 +381,9 @@ impl<'a> Line<'a> {
 }
 
 fn parse_number(t: &Token) -> Option<f64> {
-    t.word().and_then(|w| w.parse::<f64>().ok()).filter(|v| v.is_finite())
+    t.word()
+        .and_then(|w| w.parse::<f64>().ok())
+        .filter(|v| v.is_finite())
 }
 
 struct Open {
@@ -373,23 +406,45 @@ pub fn parse(src: &SourceFile) -> (ScriptAst, Diagnostics) {
         let toks = match tokens(line_no, text) {
             Ok(t) => t,
             Err(u) => {
-                diags.push(Diagnostic::error_at(src, line_no, u.col, u.len, "unterminated string").with_hint("close it with `\"`"));
+                diags.push(
+                    Diagnostic::error_at(src, line_no, u.col, u.len, "unterminated string")
+                        .with_hint("close it with `\"`"),
+                );
                 continue;
             }
         };
         if toks.is_empty() {
             continue;
         }
-        let end_col = text.split('#').next().unwrap_or("").trim_end().chars().count() + 1;
-        let mut l = Line { src, toks, pos: 0, line: line_no, end_col };
+        let end_col = text
+            .split('#')
+            .next()
+            .unwrap_or("")
+            .trim_end()
+            .chars()
+            .count()
+            + 1;
+        let mut l = Line {
+            src,
+            toks,
+            pos: 0,
+            line: line_no,
+            end_col,
+        };
         if let Err(d) = statement(&mut l, &mut ast, &mut stack, &mut top) {
             diags.push(d);
         }
     }
     while let Some(open) = stack.pop() {
         diags.push(
-            Diagnostic::error_at(src, open.span.line, open.span.col, open.span.len, format!("{} without END", open.kind))
-                .with_hint("close the block with `END`"),
+            Diagnostic::error_at(
+                src,
+                open.span.line,
+                open.span.col,
+                open.span.len,
+                format!("{} without END", open.kind),
+            )
+            .with_hint("close the block with `END`"),
         );
         // Keep what the block held so that its names are still checked.
         let block = match open.kind {
@@ -412,7 +467,12 @@ pub fn parse(src: &SourceFile) -> (ScriptAst, Diagnostics) {
     (ast, diags)
 }
 
-fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut Vec<Block>) -> PResult<()> {
+fn statement(
+    l: &mut Line,
+    ast: &mut ScriptAst,
+    stack: &mut Vec<Open>,
+    top: &mut Vec<Block>,
+) -> PResult<()> {
     let kw = l.next("a command")?;
     let Some(word) = kw.word().map(|w| w.to_ascii_uppercase()) else {
         return Err(l.expected(&kw, "a command"));
@@ -421,7 +481,17 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
     let in_together = stack.last().is_some_and(|o| o.kind == "TOGETHER");
     let header_or_block = matches!(
         word.as_str(),
-        "SCENE" | "FPS" | "SIZE" | "CAMERA" | "OBJECT" | "AXIS" | "SHOOT" | "FRAME" | "HOLD" | "REPEAT" | "TOGETHER"
+        "SCENE"
+            | "FPS"
+            | "SIZE"
+            | "CAMERA"
+            | "OBJECT"
+            | "AXIS"
+            | "SHOOT"
+            | "FRAME"
+            | "HOLD"
+            | "REPEAT"
+            | "TOGETHER"
     );
     if in_together && header_or_block {
         return Err(l
@@ -435,7 +505,9 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
     match word.as_str() {
         "SCENE" => {
             let t = l.next("a quoted file name")?;
-            let Tok::Str(s) = &t.tok else { return Err(l.expected(&t, "a quoted file name")) };
+            let Tok::Str(s) = &t.tok else {
+                return Err(l.expected(&t, "a quoted file name"));
+            };
             ast.scenes.push((s.clone(), Span::of(&t)));
         }
         "FPS" => {
@@ -460,21 +532,38 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
             let at = l.triple()?;
             let up = if l.eat("UP") { l.triple()? } else { DVec3::Z };
             let lens = if l.eat("FOV") {
-                sv_scene::Lens::Fov { vertical_deg: l.positive("an angle above 0")? }
+                sv_scene::Lens::Fov {
+                    vertical_deg: l.positive("an angle above 0")?,
+                }
             } else if l.eat("FOCAL") {
                 let focal = l.positive("a focal length above 0")?;
-                let film_height = if l.eat("FILM") { l.positive("a film height above 0")? } else { 24.0 };
+                let film_height = if l.eat("FILM") {
+                    l.positive("a film height above 0")?
+                } else {
+                    24.0
+                };
                 sv_scene::Lens::Focal { focal, film_height }
             } else if l.eat("ORTHO") {
-                sv_scene::Lens::Ortho { height: l.positive("a height above 0")? }
+                sv_scene::Lens::Ortho {
+                    height: l.positive("a height above 0")?,
+                }
             } else {
                 sv_scene::Lens::Fov { vertical_deg: 40.0 }
             };
             if let Some(c) = &ast.camera {
-                return Err(l.err_at(&kw, format!("CAMERA is already set on line {}", c.span.line)));
+                return Err(l.err_at(
+                    &kw,
+                    format!("CAMERA is already set on line {}", c.span.line),
+                ));
             }
             l.finish()?;
-            ast.camera = Some(CameraAst { eye, at, up, lens, span });
+            ast.camera = Some(CameraAst {
+                eye,
+                at,
+                up,
+                lens,
+                span,
+            });
             return Ok(());
         }
         "OBJECT" => {
@@ -495,7 +584,16 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
                 let n = match t.tok {
                     Tok::Word(_) => Name::of(&t),
                     Tok::Comma => continue,
-                    _ => return Err(l.expected(&t, if in_contains { "an object name" } else { "a region name" })),
+                    _ => {
+                        return Err(l.expected(
+                            &t,
+                            if in_contains {
+                                "an object name"
+                            } else {
+                                "a region name"
+                            },
+                        ))
+                    }
                 };
                 if in_contains {
                     contains.push(n);
@@ -506,7 +604,11 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
             if in_contains && contains.is_empty() {
                 return Err(l.missing("an object name"));
             }
-            ast.objects.push(ObjectAst { name, regions, contains });
+            ast.objects.push(ObjectAst {
+                name,
+                regions,
+                contains,
+            });
             return Ok(());
         }
         "AXIS" => {
@@ -518,14 +620,26 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
             if dir.length_squared() == 0.0 {
                 return Err(l.err_at(&dir_kw, "the axis direction must not be zero"));
             }
-            let on = if l.eat("ON") { Some(l.name("an object name")?) } else { None };
+            let on = if l.eat("ON") {
+                Some(l.name("an object name")?)
+            } else {
+                None
+            };
             l.finish()?;
-            ast.axes.push(AxisAst { name, point, dir, on });
+            ast.axes.push(AxisAst {
+                name,
+                point,
+                dir,
+                on,
+            });
             return Ok(());
         }
         "SHOOT" | "FRAME" | "HOLD" => {
             let n = if word == "HOLD" || l.peek().is_some() {
-                l.count("a whole number of frames (at least 1)", sv_director::MAX_FRAMES)?
+                l.count(
+                    "a whole number of frames (at least 1)",
+                    sv_director::MAX_FRAMES,
+                )?
             } else {
                 1
             };
@@ -539,12 +653,24 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
             let n = l.count("a repeat count (at least 1)", sv_director::MAX_FRAMES);
             let _ = l.eat("TIMES");
             let rest = l.finish();
-            stack.push(Open { kind: "REPEAT", span, count: *n.as_ref().unwrap_or(&0), blocks: Vec::new(), cmds: Vec::new() });
+            stack.push(Open {
+                kind: "REPEAT",
+                span,
+                count: *n.as_ref().unwrap_or(&0),
+                blocks: Vec::new(),
+                cmds: Vec::new(),
+            });
             n?;
             return rest;
         }
         "TOGETHER" => {
-            stack.push(Open { kind: "TOGETHER", span, count: 1, blocks: Vec::new(), cmds: Vec::new() });
+            stack.push(Open {
+                kind: "TOGETHER",
+                span,
+                count: 1,
+                blocks: Vec::new(),
+                cmds: Vec::new(),
+            });
             return l.finish();
         }
         "END" => {
@@ -562,7 +688,10 @@ fn statement(l: &mut Line, ast: &mut ScriptAst, stack: &mut Vec<Open>, top: &mut
         }
         "MOVE" | "TURN" | "SPIN" | "STOP" | "AIM" | "TRACK" | "ZOOM" | "INTENSITY" => {
             let kind = command(l, &word)?;
-            let over = if matches!(kind, CmdKind::Spin(..) | CmdKind::Stop(_) | CmdKind::StopTrack | CmdKind::Track(_)) {
+            let over = if matches!(
+                kind,
+                CmdKind::Spin(..) | CmdKind::Stop(_) | CmdKind::StopTrack | CmdKind::Track(_)
+            ) {
                 None
             } else {
                 l.timing()?
@@ -635,8 +764,18 @@ fn command(l: &mut Line, word: &str) -> PResult<CmdKind> {
                 CmdKind::Zoom(Zoom::Fov(l.positive("an angle above 0")?), None)
             } else if t.is("FOCAL") {
                 let focal = l.positive("a focal length above 0")?;
-                let film = if l.eat("FILM") { Some(l.positive("a film height above 0")?) } else { None };
-                CmdKind::Zoom(Zoom::Focal { focal, film_height: film.unwrap_or(24.0) }, film)
+                let film = if l.eat("FILM") {
+                    Some(l.positive("a film height above 0")?)
+                } else {
+                    None
+                };
+                CmdKind::Zoom(
+                    Zoom::Focal {
+                        focal,
+                        film_height: film.unwrap_or(24.0),
+                    },
+                    film,
+                )
             } else if t.is("HEIGHT") {
                 CmdKind::Zoom(Zoom::Height(l.positive("a height above 0")?), None)
             } else {
@@ -649,7 +788,13 @@ fn command(l: &mut Line, word: &str) -> PResult<CmdKind> {
             let n = l.name("a light name")?;
             let v = l.number()?;
             if v < 0.0 {
-                return Err(Diagnostic::error_at(l.src, l.line, l.toks[l.pos - 1].col, l.toks[l.pos - 1].len, "an intensity cannot be negative"));
+                return Err(Diagnostic::error_at(
+                    l.src,
+                    l.line,
+                    l.toks[l.pos - 1].col,
+                    l.toks[l.pos - 1].len,
+                    "an intensity cannot be negative",
+                ));
             }
             CmdKind::Intensity(n, v)
         }

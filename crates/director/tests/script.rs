@@ -404,6 +404,20 @@ fn every_error_is_reported_at_once_in_file_order() {
 }
 
 #[test]
+fn a_broken_declaration_is_reported_once() {
+    let text = format!("{HEADER}AXIS 7 POINT (0,0,x) DIR (0,0,1)\nTURN HELICOPTER (AXIS 7, 10)\nOBJECT TAIL REGIONS ground CONTAINS\nMOVE TAIL (1,0,0)\n");
+    let e = errors(&text);
+    let heads: Vec<&str> = e.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(
+        heads,
+        [
+            "error: expected a number, found `x`",
+            "error: expected an object name at the end of the line"
+        ]
+    );
+}
+
+#[test]
 fn missing_scene_file_is_reported_at_its_name() {
     let dir = tempfile::tempdir().expect("temp dir");
     let text = "SCENE \"nowhere.sv\"\nOBJECT X REGIONS a\nSHOOT\n";

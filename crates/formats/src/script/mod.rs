@@ -268,12 +268,13 @@ struct Resolver<'a> {
     camera_reported: bool,
     diags: Diagnostics,
     fps: f64,
+    broken: &'a [String],
 }
 
 impl Resolver<'_> {
     fn object(&mut self, n: &Name) -> Option<usize> {
         let i = self.objects.get(&n.text.to_ascii_uppercase()).copied();
-        if i.is_none() {
+        if i.is_none() && !self.broken.contains(&n.text.to_ascii_uppercase()) {
             let d = at(self.src, n.span, format!("unknown object `{}`", n.text));
             self.diags.push(suggest(d, &n.text, &self.object_names));
         }
@@ -282,7 +283,7 @@ impl Resolver<'_> {
 
     fn axis(&mut self, n: &Name) -> Option<usize> {
         let i = self.axes.get(&n.text.to_ascii_uppercase()).copied();
-        if i.is_none() {
+        if i.is_none() && !self.broken.contains(&n.text.to_ascii_uppercase()) {
             let d = at(self.src, n.span, format!("unknown axis `{}`", n.text));
             self.diags.push(suggest(d, &n.text, &self.axis_names));
         }
@@ -331,6 +332,7 @@ impl Resolver<'_> {
                 }
                 match self.find_light(&n.text) {
                     Some(l) => Target::Light(l),
+                    None if self.broken.contains(&n.text.to_ascii_uppercase()) => return None,
                     None => {
                         let d = at(
                             self.src,
@@ -512,6 +514,7 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
         camera_reported: false,
         diags: Diagnostics::default(),
         fps: ast.fps.map_or(24.0, |f| f.0),
+        broken: &ast.broken,
     };
     // Declarations first, so that they may come in any order.
     let mut first_line: HashMap<String, usize> = HashMap::new();

@@ -177,6 +177,9 @@ pub struct ScriptAst {
     pub axes: Vec<AxisAst>,
     /// The film.
     pub blocks: Vec<Block>,
+    /// Names (upper case) of objects and axes whose declaration has a
+    /// syntax error: uses of them are not reported again as unknown.
+    pub broken: Vec<String>,
 }
 
 /// Every statement keyword, for suggestions.
@@ -568,6 +571,7 @@ fn statement(
         }
         "OBJECT" => {
             let name = l.name("an object name")?;
+            ast.broken.push(name.text.to_ascii_uppercase());
             if !l.eat("REGIONS") {
                 l.eat("REGION");
             }
@@ -604,6 +608,7 @@ fn statement(
             if in_contains && contains.is_empty() {
                 return Err(l.missing("an object name"));
             }
+            ast.broken.pop();
             ast.objects.push(ObjectAst {
                 name,
                 regions,
@@ -613,6 +618,7 @@ fn statement(
         }
         "AXIS" => {
             let name = l.name("an axis name")?;
+            ast.broken.push(name.text.to_ascii_uppercase());
             l.expect_kw("POINT")?;
             let point = l.triple()?;
             let dir_kw = l.expect_kw("DIR")?;
@@ -626,6 +632,7 @@ fn statement(
                 None
             };
             l.finish()?;
+            ast.broken.pop();
             ast.axes.push(AxisAst {
                 name,
                 point,

@@ -326,6 +326,40 @@ where
     Ok(report)
 }
 
+/// Read a frame range as given on a command line (`--frames`): `A..B`
+/// (B excluded), `A..=B`, `A..`, `..B` or a single frame `N`, for a film of
+/// `total` frames. Frame numbers start at 0; the range must hold at least
+/// one frame of the film.
+pub fn parse_frame_range(text: &str, total: usize) -> Result<Range<usize>, String> {
+    let t = text.trim();
+    let num = |s: &str| -> Result<usize, String> {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("`{}` is not a frame number", s.trim()))
+    };
+    let range = match t.split_once("..") {
+        None => {
+            let n = num(t)?;
+            n..n.saturating_add(1)
+        }
+        Some((a, b)) => {
+            let start = if a.trim().is_empty() { 0 } else { num(a)? };
+            let end = match b.strip_prefix('=') {
+                Some(b) => num(b)?.saturating_add(1),
+                None if b.trim().is_empty() => total,
+                None => num(b)?,
+            };
+            start..end
+        }
+    };
+    if range.start >= range.end.min(total) {
+        return Err(format!(
+            "frames {t} hold no frame of a film of {total} frames (0..{total})"
+        ));
+    }
+    Ok(range.start..range.end.min(total))
+}
+
 /// The first executable file called `name` in the folders of a `PATH`
 /// value.
 pub fn find_program(name: &str, path: Option<std::ffi::OsString>) -> Option<PathBuf> {

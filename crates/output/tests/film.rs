@@ -298,3 +298,30 @@ fn mp4_uses_ffmpeg_and_never_fails_the_film() {
         )),
     }
 }
+
+#[test]
+fn frame_ranges_read_like_rust_ranges() {
+    assert_eq!(parse_frame_range("10..20", 720), Ok(10..20));
+    assert_eq!(parse_frame_range("10..=20", 720), Ok(10..21));
+    assert_eq!(parse_frame_range("700..", 720), Ok(700..720));
+    assert_eq!(parse_frame_range("..5", 720), Ok(0..5));
+    assert_eq!(parse_frame_range(" 42 ", 720), Ok(42..43));
+    assert_eq!(parse_frame_range("700..800", 720), Ok(700..720));
+    assert_eq!(parse_frame_range("719", 720), Ok(719..720));
+    assert_eq!(
+        parse_frame_range("720", 720),
+        Err("frames 720 hold no frame of a film of 720 frames (0..720)".to_string())
+    );
+    assert_eq!(
+        parse_frame_range("20..10", 720),
+        Err("frames 20..10 hold no frame of a film of 720 frames (0..720)".to_string())
+    );
+    assert_eq!(
+        parse_frame_range("a..b", 720),
+        Err("`a` is not a frame number".to_string())
+    );
+    assert_eq!(
+        parse_frame_range("1..-3", 720),
+        Err("`-3` is not a frame number".to_string())
+    );
+}

@@ -604,13 +604,15 @@ fn a_script_becomes_the_timeline_it_says() {
             Step::Change(Timed::over(Change::Aim(AimPoint::Point(DVec3::ZERO)), 2)),
         ]
     );
-    // The paper's first frame: moved by (3,0,-1), turned 15 degrees about
-    // AXIS 1, which the move carried to (4, 0).
+    // The paper's first frame: moved by (3,0,-1), then turned 15 degrees
+    // about AXIS 1, which the move carried to the vertical through (4, 0).
     let f0 = t.scene_at(&s, 0);
-    let c = f0.geometry.bodies[0].vec3(0);
-    let expect = DVec3::new(4.0, 0.0, 1.0)
-        + sv_math::DMat3::from_rotation_z(15f64.to_radians()) * DVec3::new(0.0, 0.0, 0.0);
-    assert!((c - expect).length() < 1e-12, "{c}");
+    let v = f0.geometry.bodies[2].vec3(0);
+    let rel =
+        sv_math::DMat3::from_rotation_z(15f64.to_radians()) * DVec3::new(3.0 - 4.0, -0.1, 0.0);
+    let expect = DVec3::new(4.0 + rel.x, rel.y, 2.2);
+    assert!((v - expect).length() < 1e-12, "{v} != {expect}");
+    assert!((f0.geometry.bodies[0].vec3(0) - DVec3::new(4.0, 0.0, 1.0)).length() < 1e-12);
 }
 
 #[test]

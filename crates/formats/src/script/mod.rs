@@ -90,6 +90,20 @@ pub struct Film {
     pub warnings: Vec<Diagnostic>,
 }
 
+impl Film {
+    /// The scene at `frame` (see [`Timeline::scene_at`]).
+    pub fn scene_at(&self, frame: usize) -> Scene {
+        self.timeline.scene_at(&self.scene, frame)
+    }
+
+    /// Digest of the film's timeline and scene (see
+    /// [`Timeline::fingerprint`]); add render settings to it to key frames
+    /// on disk.
+    pub fn fingerprint(&self) -> String {
+        self.timeline.fingerprint(&self.scene)
+    }
+}
+
 /// Why a script could not be used.
 #[derive(Debug, thiserror::Error)]
 pub enum ScriptError {

@@ -161,6 +161,20 @@ fn io_err(path: &Path) -> impl FnOnce(io::Error) -> FilmError + '_ {
     }
 }
 
+/// SHA-256 (hex) of the parts, each prefixed by its length so that
+/// different splits never collide: the key of a film's frames, made from
+/// for example the timeline's fingerprint, the render settings and the
+/// program version.
+pub fn content_hash(parts: &[&[u8]]) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    for p in parts {
+        h.update((p.len() as u64).to_le_bytes());
+        h.update(p);
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// The PNG of a frame: `DIR/frame_000042.png`.
 pub fn frame_path(dir: &Path, frame: usize) -> PathBuf {
     dir.join(format!("frame_{frame:06}.png"))

@@ -325,3 +325,16 @@ fn frame_ranges_read_like_rust_ranges() {
         Err("`-3` is not a frame number".to_string())
     );
 }
+
+#[test]
+fn content_hash_depends_on_every_part_and_its_boundaries() {
+    let h = content_hash(&[b"film", b"960x720"]);
+    assert_eq!(h.len(), 64);
+    assert_eq!(h, content_hash(&[b"film", b"960x720"]));
+    assert_ne!(h, content_hash(&[b"film", b"960x721"]));
+    assert_ne!(h, content_hash(&[b"fil", b"m960x720"]));
+    assert_eq!(
+        content_hash(&[]),
+        "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+    );
+}

@@ -23,6 +23,23 @@
 //! itself use rayon). Each frame's picture depends only on its number, and
 //! the GIF, MP4 and contact sheet are built from the PNGs in frame order, so
 //! the output does not depend on the order in which frames were made.
+//!
+//! ```
+//! use sv_output::film::{content_hash, make_film, FilmOptions, Mp4Status};
+//! let dir = tempfile::tempdir()?;
+//! let hash = content_hash(&[b"timeline fingerprint", b"960x720 shadows"]);
+//! let mut opts = FilmOptions::new(dir.path(), hash);
+//! opts.ffmpeg = Some("/nonexistent/ffmpeg".into()); // skip the MP4 here
+//! let render = |frame: usize| Ok(image::RgbImage::from_pixel(32, 24, image::Rgb([frame as u8 * 40, 90, 200])));
+//! let report = make_film(5, &opts, render, |done, total| eprintln!("{done}/{total}"))?;
+//! assert_eq!(report.rendered, vec![0, 1, 2, 3, 4]);
+//! assert!(report.gif.is_some() && report.contact_sheet.is_some());
+//! assert!(matches!(report.mp4, Mp4Status::Failed(_)));
+//! // A second run finds every frame done.
+//! let again = make_film(5, &opts, |_| unreachable!(), |_, _| {})?;
+//! assert_eq!(again.reused.len(), 5);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use image::RgbImage;
 use rayon::prelude::*;

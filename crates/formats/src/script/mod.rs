@@ -57,6 +57,28 @@
 //! The whole script is checked before any frame is made: every unknown
 //! command, object, axis, region or light is reported with its line, column
 //! and a suggestion.
+//!
+//! ```
+//! use sv_formats::{script::build_timeline, SourceFile};
+//! use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+//! use sv_scene::{RegionProps, Scene};
+//! let mut scene = Scene::default();
+//! scene.geometry.bodies.push(Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 5.0, 1.0]));
+//! let zone = Zone { terms: vec![Term { op: Op::Inside, body: 0 }] };
+//! scene.push_region(Region { name: "fuselage".into(), zones: vec![zone] }, RegionProps::default());
+//!
+//! let text = "SCENE \"helicopter.sv\"\nOBJECT HELICOPTER REGIONS fuselage\n\
+//!             AXIS 1 POINT (2,0,0) DIR (0,0,1)\nMOVE HELICOPTER (3,0,-1)\n\
+//!             TURN HELICOPTER (AXIS 1,15) OVER 3 FRAMES\n";
+//! let timeline = build_timeline(&SourceFile::new("film.svs", text), &scene).unwrap();
+//! assert_eq!(timeline.frame_count(), 3);
+//! let last = timeline.scene_at(&scene, 2);
+//! assert!((last.geometry.bodies[0].vec3(0).z - 4.0).abs() < 1e-12);
+//!
+//! let bad = SourceFile::new("film.svs", "SCENE \"h.sv\"\nTURN HELICOPTR (AXIS 1,15)\n");
+//! let errors = build_timeline(&bad, &scene).unwrap_err();
+//! assert_eq!(errors.items[0].to_string(), "film.svs:2:6: unknown object or light `HELICOPTR`");
+//! ```
 
 mod lex;
 mod parse;

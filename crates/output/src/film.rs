@@ -17,7 +17,9 @@
 //! and renamed into place, the PNG first: a killed run leaves no truncated
 //! PNG, and a frame whose hash file is missing or stale is made again. Runs
 //! over different frame ranges may share a folder (and run at the same
-//! time); whichever finds every frame done assembles the film.
+//! time); whichever finds every frame done assembles the film. Temporary
+//! files a killed run left behind are deleted by the next run once they are
+//! older than [`STALE_AFTER`].
 //!
 //! Frames are rendered in parallel on rayon's thread pool (the callback may
 //! itself use rayon). Each frame's picture depends only on its number, and
@@ -260,6 +262,31 @@ fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {
     }
 }
 
+/// Age after which a temporary file left in the output folder is taken to
+/// belong to a killed run (writing one frame takes well under a second).
+pub const STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// Delete the temporary files (`.tmp-*`) in `dir` older than `age`: what a
+/// killed run leaves behind. Younger ones may belong to a run still going
+/// and are kept. Returns how many were deleted; errors are ignored.
+pub fn remove_stale_temporaries(dir: &Path, age: std::time::Duration) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    let now = std::time::SystemTime::now();
+    let mut n = 0;
+    for e in entries.flatten() {
+        let stale = e.file_name().to_string_lossy().starts_with(".tmp-")
+            && e.metadata()
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| now.duration_since(t).is_ok_and(|d| d > age));
+        if stale && std::fs::remove_file(e.path()).is_ok() {
+            n += 1;
+        }
+    }
+    n
+}
+
 /// Render the frames of `opts.frames` that are not done yet, in parallel,
 /// writing each PNG and then its hash file atomically. `progress(done,
 /// total)` is called once at the start and after every frame (from worker
@@ -279,6 +306,8 @@ where
     let dir = &opts.out_dir;
     let hashes = dir.join("hashes");
     std::fs::create_dir_all(&hashes).map_err(io_err(&hashes))?;
+    remove_stale_temporaries(dir, STALE_AFTER);
+    remove_stale_temporaries(&hashes, STALE_AFTER);
     let range = opts.frames.start.min(total)..opts.frames.end.min(total);
     let (reused, todo): (Vec<usize>, Vec<usize>) =
         range.clone().partition(|&f| frame_done(dir, f, &opts.hash));

@@ -338,3 +338,29 @@ fn content_hash_depends_on_every_part_and_its_boundaries() {
         "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
     );
 }
+
+#[test]
+fn temporaries_of_a_killed_run_are_cleared_when_stale() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let dir = tmp.path();
+    std::fs::create_dir_all(dir.join("hashes")).expect("mkdir");
+    let old = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    for p in [
+        dir.join(".tmp-killed"),
+        dir.join("hashes").join(".tmp-killed"),
+    ] {
+        let f = std::fs::File::create(&p).expect("create");
+        f.set_modified(old).expect("mtime");
+    }
+    std::fs::write(dir.join(".tmp-running"), b"part").expect("write");
+    make_film(2, &opts(dir, "h"), |f| Ok(picture(f)), |_, _| {}).expect("run");
+    let names = files(dir);
+    assert!(!names.contains(&".tmp-killed".to_string()), "{names:?}");
+    assert!(
+        names.contains(&".tmp-running".to_string()),
+        "a young temporary may belong to a live run"
+    );
+    assert!(files(&dir.join("hashes"))
+        .iter()
+        .all(|n| !n.starts_with(".tmp")));
+}

@@ -662,3 +662,94 @@ fn fingerprint_follows_the_film_and_the_scene() {
             .fingerprint(&b2)
     );
 }
+
+mod random_films {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn change() -> impl Strategy<Value = Change> {
+        let v =
+            || (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64).prop_map(|(x, y, z)| DVec3::new(x, y, z));
+        let target = prop_oneof![
+            Just(Target::Object(HELI)),
+            Just(Target::Object(ROTOR)),
+            Just(Target::Camera),
+            Just(Target::Light(0)),
+            Just(Target::Light(1))
+        ];
+        prop_oneof![
+            (target.clone(), v()).prop_map(|(target, by)| Change::Move { target, by }),
+            (target, 0..4usize, -200.0..200.0f64).prop_map(|(target, axis, degrees)| {
+                Change::Turn {
+                    target,
+                    axis,
+                    degrees,
+                }
+            }),
+            (0..2usize, 0..4usize, -30.0..30.0f64).prop_map(|(object, axis, d)| Change::Spin {
+                object,
+                axis,
+                degrees_per_frame: d
+            }),
+            (0..2usize).prop_map(|object| Change::Stop { object }),
+            v().prop_map(|p| Change::Aim(AimPoint::Point(p))),
+            (0..2usize).prop_map(|o| Change::Aim(AimPoint::Object(o))),
+            (5.0..80.0f64).prop_map(|d| Change::Zoom(Zoom::Fov(d))),
+            (0..2usize, 0.0..10.0f64).prop_map(|(light, value)| Change::Intensity { light, value }),
+            prop_oneof![Just(None), Just(Some(HELI)), Just(Some(ROTOR))].prop_map(Change::Track),
+        ]
+    }
+
+    fn timed() -> impl Strategy<Value = Timed> {
+        (change(), 0..5usize, any::<bool>()).prop_map(|(change, frames, smooth)| Timed {
+            change,
+            frames,
+            easing: if smooth {
+                Easing::Smooth
+            } else {
+                Easing::Linear
+            },
+        })
+    }
+
+    fn step() -> impl Strategy<Value = Step> {
+        let leaf = prop_oneof![
+            timed().prop_map(Step::Change),
+            (1..4usize).prop_map(Step::Shoot),
+            proptest::collection::vec(timed(), 1..4).prop_map(Step::Together),
+        ];
+        leaf.prop_recursive(2, 16, 4, |inner| {
+            (1..4usize, proptest::collection::vec(inner, 1..4))
+                .prop_map(|(n, b)| Step::Repeat(n, b))
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 128, .. ProptestConfig::default() })]
+
+        /// Any film: every frame computed alone equals the same frame of a
+        /// sequential run, bit for bit.
+        #[test]
+        fn any_frame_alone_equals_the_sequential_run(steps in proptest::collection::vec(step(), 1..8), order in any::<u64>()) {
+            let t = timeline(steps);
+            let b = base();
+            let seq: Vec<Scene> = t.states().map(|s| t.scene_from_state(&b, &s)).collect();
+            prop_assert_eq!(seq.len(), t.frame_count());
+            let n = seq.len();
+            for i in 0..n {
+                // Visit the frames in a scrambled order.
+                let f = (i.wrapping_mul(7919) + order as usize) % n;
+                let alone = t.scene_at(&b, f);
+                let same = alone.geometry.bodies.iter().zip(&seq[f].geometry.bodies).all(|(a, s)| {
+                    a.kind == s.kind && a.params.iter().map(|x| x.to_bits()).eq(s.params.iter().map(|x| x.to_bits()))
+                });
+                prop_assert!(same, "bodies of frame {} differ", f);
+                let bits = |c: &Option<Camera>| c.map(|c| [c.eye, c.dir, c.up].map(|p| p.to_array().map(f64::to_bits)));
+                prop_assert_eq!(bits(&alone.camera), bits(&seq[f].camera));
+                prop_assert_eq!(format!("{:?}", alone.camera.map(|c| c.lens)), format!("{:?}", seq[f].camera.map(|c| c.lens)));
+                let lights = |s: &Scene| format!("{:?}", s.lights);
+                prop_assert_eq!(lights(&alone), lights(&seq[f]));
+            }
+        }
+    }
+}

@@ -20,10 +20,11 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Shoot(a) => shoot(a),
         Command::Bodies => bodies(),
         Command::Bench(a) => bench(a),
+        Command::Film(a) => crate::film_cmd::film(a),
     }
 }
 
-fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
         if n == 0 {

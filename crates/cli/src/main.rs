@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod film_cmd;
 mod load;
 
 use std::process::ExitCode;

@@ -190,6 +190,15 @@ impl Prepared {
             };
             (1e-7 * d).max(1e-12)
         });
+        // Pad every box by the tolerance so that rounding never makes a box
+        // test reject a hit on its boundary.
+        let pad = 4.0 * tol;
+        for b in body_bounds.iter_mut() {
+            *b = b.padded(pad);
+        }
+        for z in zones.iter_mut() {
+            z.bounds = z.bounds.padded(pad);
+        }
         let mut bounded_all = Vec::new();
         let mut bounded_opaque = Vec::new();
         let (mut unbounded_all, mut unbounded_opaque) = (Vec::new(), Vec::new());

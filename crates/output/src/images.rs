@@ -153,7 +153,8 @@ fn code(v: f32, o: &WriteOptions, max: f32) -> u16 {
     if o.encoding == Encoding::Srgb {
         v = srgb(v);
     }
-    (v * max).round() as u16
+    // Round half up; the value is non-negative, so this equals round().
+    (v * max + 0.5) as u16
 }
 
 /// The channels to write for each pixel, as linear floats.

@@ -457,7 +457,8 @@ impl Frustum {
             );
             let v = n.dot(p);
             // Rounding slack: rule a box out only when clearly outside.
-            !(v < *d - 1e-9 * (d.abs() + v.abs() + n.length()))
+            // (NaN compares false and keeps the box.)
+            v >= *d - 1e-9 * (d.abs() + v.abs() + n.length()) || v.is_nan()
         })
     }
 }

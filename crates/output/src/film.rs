@@ -46,7 +46,7 @@
 use image::RgbImage;
 use rayon::prelude::*;
 use std::fmt;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -211,25 +211,12 @@ pub fn frame_done(dir: &Path, frame: usize, hash: &str) -> bool {
 }
 
 /// Write a file through a temporary file in the same folder, renamed into
-/// place only when `write` succeeds: readers see the old file or the whole
-/// new one, never a part, and a failure leaves nothing behind.
+/// place only when `write` succeeds (see [`crate::images::write_atomic_io`]).
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::Builder::new().prefix(".tmp-").tempfile_in(dir)?;
-    {
-        let mut w = BufWriter::new(tmp.as_file_mut());
-        write(&mut w)?;
-        w.flush()?;
-    }
-    tmp.as_file().sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
+    crate::images::write_atomic_io(path, write)
 }
 
 fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {

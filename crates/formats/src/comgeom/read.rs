@@ -315,10 +315,19 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// Skip the continuation cards of a body that cannot be read.
+    /// Skip the continuation cards of a body that cannot be read: cards with
+    /// a blank type field, no other body number and six readable values (a
+    /// v5 region card also has a blank type field, but rarely such values).
     fn skip_continuations(&mut self) {
+        let number = (self.bodies.len() + 1) as i64;
         while let Some(c) = self.peek() {
-            if !self.type_field(&c).trim().is_empty() || self.version == DeckVersion::V1 {
+            let num = parse_int(c.field(self.lay.num_col, self.lay.num_len));
+            let values = (0..6).all(|f| parse_real(c.field(11 + 10 * f, 10)).is_some());
+            if self.version == DeckVersion::V1
+                || !self.type_field(&c).trim().is_empty()
+                || !matches!(num, Some(0)) && num != Some(number)
+                || !values
+            {
                 break;
             }
             self.pos += 1;
@@ -343,7 +352,7 @@ impl<'a> Reader<'a> {
         }
         let ty = header.field(lay.type_col, lay.type_len).trim();
         let Some(kind) = kind_for(ty, self.version) else {
-            let hint = match did_you_mean(ty, TYPE_NAMES.iter().copied()) {
+            let hint = match suggest_type(ty) {
                 Some(s) => format!("did you mean \"{s}\"?"),
                 None => format!("COMGEOM body types are {}", TYPE_NAMES.join(", ")),
             };
@@ -507,7 +516,8 @@ impl<'a> Reader<'a> {
         let nbodies = self.bodies.len();
         if self.peek().is_none() {
             let l = self.last_line();
-            self.error(l, 1, 0, format!("line {l}: the deck ends before the region table"));
+            let end = self.cards.get(l - 1).map_or(0, |c| c.text.chars().count());
+            self.error(l, end + 1, 0, format!("line {l}: the deck ends before the region table"));
             return regions;
         }
         loop {
@@ -839,6 +849,21 @@ fn simplify(zones: &mut Vec<Vec<Term>>) {
             zones.push(zone);
         }
     }
+}
+
+/// The type name `ty` was probably meant to be: a swap of two neighbouring
+/// letters first (`SHP` → `SPH`), else the closest by edit distance.
+fn suggest_type(ty: &str) -> Option<&'static str> {
+    let up: Vec<char> = ty.to_ascii_uppercase().chars().collect();
+    for i in 1..up.len() {
+        let mut s = up.clone();
+        s.swap(i - 1, i);
+        let s: String = s.into_iter().collect();
+        if let Some(t) = TYPE_NAMES.iter().find(|t| **t == s) {
+            return Some(t);
+        }
+    }
+    did_you_mean(ty, TYPE_NAMES.iter().copied())
 }
 
 /// `radius (R)`, `height vector (H.y)`, `vertex (P3.z)` for value `i` of a

@@ -7,7 +7,10 @@ use sv_formats::{comgeom, DeckVersion, Diagnostics, LoadOptions, Loaded, Severit
 use sv_geom::{BodyKind, Geometry, Op, Term};
 use sv_scene::{Scene, Units};
 
-const DECKS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/decks/comgeom/");
+const DECKS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../../shared/decks/comgeom/"
+);
 const VDECK: &str = "vdeck-all-types.cg";
 const GIFT: &str = "gift-sample-target-v4.cg";
 const GENERATOR: &str = "mep021a-generator-v5.cg";
@@ -75,16 +78,22 @@ fn v5_deck(nb: usize, nr: usize, bodies: &[String], regions: &[String]) -> Strin
 }
 
 fn sph(num: usize) -> String {
-    v5_body(&num.to_string(), "SPH", &["0.", "0.", "0.", &format!("{num}.")])
+    v5_body(
+        &num.to_string(),
+        "SPH",
+        &["0.", "0.", "0.", &format!("{num}.")],
+    )
 }
 
 // ---------------------------------------------------------------- real decks
 
 #[test]
 fn real_decks_parse_with_the_documented_counts_and_versions() {
-    for (name, version, bodies, regions) in
-        [(VDECK, DeckVersion::V5, 19, 19), (GIFT, DeckVersion::V4, 20, 20), (GENERATOR, DeckVersion::V5, 282, 282)]
-    {
+    for (name, version, bodies, regions) in [
+        (VDECK, DeckVersion::V5, 19, 19),
+        (GIFT, DeckVersion::V4, 20, 20),
+        (GENERATOR, DeckVersion::V5, 282, 282),
+    ] {
         let Some(text) = deck_text(name) else { return };
         assert_eq!(comgeom::detect_version(&text), version, "{name}");
         let l = load(name).unwrap();
@@ -92,11 +101,20 @@ fn real_decks_parse_with_the_documented_counts_and_versions() {
         assert_eq!(l.scene.geometry.regions.len(), regions, "{name} regions");
         assert_eq!(l.scene.regions.len(), regions, "{name} region properties");
         // Forcing the detected version reads the same thing.
-        let forced = comgeom::read(&SourceFile::new(name, text.as_str()), &LoadOptions { deck_version: Some(version) }).unwrap();
+        let forced = comgeom::read(
+            &SourceFile::new(name, text.as_str()),
+            &LoadOptions {
+                deck_version: Some(version),
+            },
+        )
+        .unwrap();
         assert_eq!(forced.scene.geometry, l.scene.geometry, "{name}");
         // Body and region names are their numbers.
         assert_eq!(l.scene.geometry.bodies[bodies - 1].name, bodies.to_string());
-        assert_eq!(l.scene.geometry.regions[regions - 1].name, regions.to_string());
+        assert_eq!(
+            l.scene.geometry.regions[regions - 1].name,
+            regions.to_string()
+        );
     }
 }
 
@@ -104,7 +122,11 @@ fn real_decks_parse_with_the_documented_counts_and_versions() {
 fn real_decks_load_without_errors_and_only_the_gift_deck_warns() {
     for name in [VDECK, GENERATOR] {
         let Some(l) = load(name) else { return };
-        assert!(l.warnings.is_empty(), "{name}: {:?}", l.warnings.iter().map(|w| &w.message).collect::<Vec<_>>());
+        assert!(
+            l.warnings.is_empty(),
+            "{name}: {:?}",
+            l.warnings.iter().map(|w| &w.message).collect::<Vec<_>>()
+        );
     }
     let Some(l) = load(GIFT) else { return };
     let msgs: Vec<_> = l.warnings.iter().map(|w| w.message.as_str()).collect();
@@ -144,26 +166,89 @@ macro_rules! body_test {
 }
 
 // GIFT sample target (v4): every body type it holds.
-body_test!(gift_tor_steering_wheel, GIFT, 1, Tor, [21.5, 0, 37, 1, 0, 0, 8, 1]);
-body_test!(gift_arb4_steering_column, GIFT, 2, Arb4, [21.5, -6, 33.5, 21.5, 6, 33.5, 21.5, 0, 44, 40, 0, 37]);
-body_test!(gift_arb5_body_front, GIFT, 3, Arb5, [75, -36, 12, 75, 36, 12, 75, 36, 48, 75, -36, 48, 100, 0, 12]);
+body_test!(
+    gift_tor_steering_wheel,
+    GIFT,
+    1,
+    Tor,
+    [21.5, 0, 37, 1, 0, 0, 8, 1]
+);
+body_test!(
+    gift_arb4_steering_column,
+    GIFT,
+    2,
+    Arb4,
+    [21.5, -6, 33.5, 21.5, 6, 33.5, 21.5, 0, 44, 40, 0, 37]
+);
+body_test!(
+    gift_arb5_body_front,
+    GIFT,
+    3,
+    Arb5,
+    [75, -36, 12, 75, 36, 12, 75, 36, 48, 75, -36, 48, 100, 0, 12]
+);
 body_test!(
     gift_arb8_body_rear,
     GIFT,
     4,
     Arb8,
-    [-75, -36, 12, -75, 36, 12, -75, 36, 48, -75, -36, 48, -100, -24, 12, -100, 24, 12, -100, 24, 20, -100, -24, 20]
+    [
+        -75, -36, 12, -75, 36, 12, -75, 36, 48, -75, -36, 48, -100, -24, 12, -100, 24, 12, -100,
+        24, 20, -100, -24, 20
+    ]
 );
-body_test!(gift_ell_is_the_foci_form_in_v4, GIFT, 5, Ell, [20, 0, 48, -20, 0, 48, 50]);
+body_test!(
+    gift_ell_is_the_foci_form_in_v4,
+    GIFT,
+    5,
+    Ell,
+    [20, 0, 48, -20, 0, 48, 50]
+);
 body_test!(gift_rpp_body, GIFT, 6, Rpp, [-75, 75, -36, 36, 12, 48]);
 body_test!(gift_rcc_wheel, GIFT, 7, Rcc, [60, -36, 12, 0, 8, 0, 12]);
-body_test!(gift_raw_engine_cover, GIFT, 12, Raw, [-70, 0, 35, 0, -11, 11, 0, 11, 11, 40, 0, 0]);
-body_test!(gift_rec_torso, GIFT, 13, Rec, [0, 0, 24, 0, 0, 28, 0, 7.5, 0, 5, 0, 0]);
+body_test!(
+    gift_raw_engine_cover,
+    GIFT,
+    12,
+    Raw,
+    [-70, 0, 35, 0, -11, 11, 0, 11, 11, 40, 0, 0]
+);
+body_test!(
+    gift_rec_torso,
+    GIFT,
+    13,
+    Rec,
+    [0, 0, 24, 0, 0, 28, 0, 7.5, 0, 5, 0, 0]
+);
 body_test!(gift_sph_head, GIFT, 14, Sph, [0, 0, 52, 5]);
-body_test!(gift_tec_arm, GIFT, 15, Tec, [0, -7.5, 49, 20, 0, -12, 0, 0, 3, 0, 2, 0, 2]);
-body_test!(gift_trc_leg, GIFT, 17, Trc, [-2, -4.5, 27, 32, 0, -12, 3, 2]);
-body_test!(gift_ell1_inside_air, GIFT, 19, Ell1, [0, 0, 48, 24, 0, 0, 14]);
-body_test!(gift_box_inside_air, GIFT, 20, Box, [-74, -35, 13, 148, 0, 0, 0, 70, 0, 0, 0, 34]);
+body_test!(
+    gift_tec_arm,
+    GIFT,
+    15,
+    Tec,
+    [0, -7.5, 49, 20, 0, -12, 0, 0, 3, 0, 2, 0, 2]
+);
+body_test!(
+    gift_trc_leg,
+    GIFT,
+    17,
+    Trc,
+    [-2, -4.5, 27, 32, 0, -12, 3, 2]
+);
+body_test!(
+    gift_ell1_inside_air,
+    GIFT,
+    19,
+    Ell1,
+    [0, 0, 48, 24, 0, 0, 14]
+);
+body_test!(
+    gift_box_inside_air,
+    GIFT,
+    20,
+    Box,
+    [-74, -35, 13, 148, 0, 0, 0, 70, 0, 0, 0, 34]
+);
 
 #[test]
 fn gift_ars_engine_reads_six_curves_of_five_points() {
@@ -187,15 +272,36 @@ fn gift_ars_engine_reads_six_curves_of_five_points() {
 }
 
 // vdeck (v5, lower-case type names): every body type BRL-CAD writes.
-body_test!(vdeck_arb4, VDECK, 1, Arb4, [3, 0, -3, 3, 0, 0, 3, -3, -3, 0, 0, -3]);
-body_test!(vdeck_arb5, VDECK, 2, Arb5, [1, 0, 0, 1, 2, 0, 3, 2, 0, 3, 0, 0, 1.5, 1.5, 5]);
-body_test!(vdeck_arb6, VDECK, 3, Arb6, [2, -0.5, -0.5, 2, 0, -0.5, 2, 0, 0, 2, -0.5, 0, 2.5, -0.3, -0.5, 2.5, -0.3, 0]);
+body_test!(
+    vdeck_arb4,
+    VDECK,
+    1,
+    Arb4,
+    [3, 0, -3, 3, 0, 0, 3, -3, -3, 0, 0, -3]
+);
+body_test!(
+    vdeck_arb5,
+    VDECK,
+    2,
+    Arb5,
+    [1, 0, 0, 1, 2, 0, 3, 2, 0, 3, 0, 0, 1.5, 1.5, 5]
+);
+body_test!(
+    vdeck_arb6,
+    VDECK,
+    3,
+    Arb6,
+    [2, -0.5, -0.5, 2, 0, -0.5, 2, 0, 0, 2, -0.5, 0, 2.5, -0.3, -0.5, 2.5, -0.3, 0]
+);
 body_test!(
     vdeck_arb7,
     VDECK,
     4,
     Arb7,
-    [3.25, -1.25, -0.75, 3.25, -0.25, -0.75, 3.25, -0.25, 0.25, 3.25, -1.25, -0.25, 2.25, -1.25, -0.75, 2.25, -0.25, -0.75, 2.25, -0.25, -0.25]
+    [
+        3.25, -1.25, -0.75, 3.25, -0.25, -0.75, 3.25, -0.25, 0.25, 3.25, -1.25, -0.25, 2.25, -1.25,
+        -0.75, 2.25, -0.25, -0.75, 2.25, -0.25, -0.25
+    ]
 );
 body_test!(
     vdeck_arb8,
@@ -209,36 +315,85 @@ body_test!(
     VDECK,
     6,
     Ars,
-    [3, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 100, 100, 0, 100, 100, 100, 100, 0, 0, 200, 0, 0, 200, 0, 0, 200]
+    [
+        3, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 100, 100, 0, 100, 100, 100, 100, 0, 0, 200, 0, 0,
+        200, 0, 0, 200
+    ]
 );
-body_test!(vdeck_ellg, VDECK, 8, Ellg, [10, 0, 0, -12, 0, 0, 0, -3, 0, 0, 0, 5]);
+body_test!(
+    vdeck_ellg,
+    VDECK,
+    8,
+    Ellg,
+    [10, 0, 0, -12, 0, 0, 0, -3, 0, 0, 0, 5]
+);
 body_test!(vdeck_ell1, VDECK, 9, Ell1, [3, 2, 8, 3, -1, 8, 4]);
 body_test!(vdeck_haf, VDECK, 11, Haf, [0.5774, 0.5774, 0.5774, -5]);
 body_test!(vdeck_rcc, VDECK, 12, Rcc, [0, 0, 0, 3, 3, 30, 7]);
-body_test!(vdeck_tec, VDECK, 13, Tec, [0, 0, 0, 3, 3, 10, 10, 0, 0, 0, 3, 0, 1]);
+body_test!(
+    vdeck_tec,
+    VDECK,
+    13,
+    Tec,
+    [0, 0, 0, 3, 3, 10, 10, 0, 0, 0, 3, 0, 1]
+);
 body_test!(vdeck_sph, VDECK, 15, Sph, [42, 42, 42, 42]);
-body_test!(vdeck_tgc, VDECK, 17, Tgc, [0, 0, 0, 0, 0, 10, 5, 0, 0, 0, 8, 0, 2, 9]);
-body_test!(vdeck_tor, VDECK, 18, Tor, [0, 0, 0, 0.3015, 0.3015, 0.9045, 5, 2]);
+body_test!(
+    vdeck_tgc,
+    VDECK,
+    17,
+    Tgc,
+    [0, 0, 0, 0, 0, 10, 5, 0, 0, 0, 8, 0, 2, 9]
+);
+body_test!(
+    vdeck_tor,
+    VDECK,
+    18,
+    Tor,
+    [0, 0, 0, 0.3015, 0.3015, 0.9045, 5, 2]
+);
 body_test!(vdeck_trc, VDECK, 19, Trc, [0, 0, 0, 0, 0, 10, 4, 7]);
 
 // MEP-021A generator (v5 with left-aligned numbers): its four body types.
-body_test!(generator_rcc_crankshaft, GENERATOR, 1, Rcc, [-303.0232, 0, 0, 697.4867, 0, 0, 12.7001]);
+body_test!(
+    generator_rcc_crankshaft,
+    GENERATOR,
+    1,
+    Rcc,
+    [-303.0232, 0, 0, 697.4867, 0, 0, 12.7001]
+);
 body_test!(
     generator_arb8_block,
     GENERATOR,
     5,
     Arb8,
     [
-        -303.0232, -50.6002, -35.5601, -303.0232, -152.4006, -35.5601, -303.0232, -152.4006, 35.5601, -303.0232, -50.8002,
-        35.5601, -5.08, -50.8002, -35.5601, -5.08, -152.4006, -35.5601, -5.08, -152.4006, 35.5601, -5.08, -50.8002, 35.5601
+        -303.0232, -50.6002, -35.5601, -303.0232, -152.4006, -35.5601, -303.0232, -152.4006,
+        35.5601, -303.0232, -50.8002, 35.5601, -5.08, -50.8002, -35.5601, -5.08, -152.4006,
+        -35.5601, -5.08, -152.4006, 35.5601, -5.08, -50.8002, 35.5601
     ]
 );
-body_test!(generator_trc_fan, GENERATOR, 181, Trc, [74.7271, 0, 0, -38.1002, 0, 0, 151.1306, 45.5119]);
-body_test!(generator_rpp_stiffener, GENERATOR, 277, Rpp, [-387.1686, 412.5687, 220.4729, 230.1249, -226.4571, -182.007]);
+body_test!(
+    generator_trc_fan,
+    GENERATOR,
+    181,
+    Trc,
+    [74.7271, 0, 0, -38.1002, 0, 0, 151.1306, 45.5119]
+);
+body_test!(
+    generator_rpp_stiffener,
+    GENERATOR,
+    277,
+    Rpp,
+    [-387.1686, 412.5687, 220.4729, 230.1249, -226.4571, -182.007]
+);
 
 fn terms(spec: &[i64]) -> Vec<Term> {
     spec.iter()
-        .map(|&n| Term { op: if n < 0 { Op::Outside } else { Op::Inside }, body: n.unsigned_abs() as usize - 1 })
+        .map(|&n| Term {
+            op: if n < 0 { Op::Outside } else { Op::Inside },
+            body: n.unsigned_abs() as usize - 1,
+        })
         .collect()
 }
 
@@ -247,20 +402,35 @@ fn region_cards_become_zones_with_continuations() {
     let Some(l) = load(GIFT) else { return };
     let g = &l.scene.geometry;
     assert_eq!(g.regions[5].zones.len(), 1);
-    assert_eq!(g.regions[5].zones[0].terms, terms(&[6, -20, -19, -7, -8, -9, -10]));
-    assert_eq!(g.regions[12].zones[0].terms, terms(&[13, -15, -16, -17, -18]));
+    assert_eq!(
+        g.regions[5].zones[0].terms,
+        terms(&[6, -20, -19, -7, -8, -9, -10])
+    );
+    assert_eq!(
+        g.regions[12].zones[0].terms,
+        terms(&[13, -15, -16, -17, -18])
+    );
     let Some(l) = load(GENERATOR) else { return };
     let g = &l.scene.geometry;
-    assert_eq!(g.regions[4].zones[0].terms, terms(&[5, -6, -7, -8, -28, -29, -30, -148]));
+    assert_eq!(
+        g.regions[4].zones[0].terms,
+        terms(&[5, -6, -7, -8, -28, -29, -30, -148])
+    );
     // Line 766 continues the region above it (blank region number).
-    assert_eq!(g.regions[215].zones[0].terms, terms(&[216, -217, -11, -17, -33, -39, -56, -62, -78, -84]));
+    assert_eq!(
+        g.regions[215].zones[0].terms,
+        terms(&[216, -217, -11, -17, -33, -39, -56, -62, -78, -84])
+    );
 }
 
 #[test]
 fn ident_tables_fill_region_metadata_and_air_is_transparent() {
     let Some(l) = load(GIFT) else { return };
     let r = &l.scene.regions;
-    assert_eq!((r[0].ident, r[0].air, r[0].material, r[0].los), (40, 0, 0, 100));
+    assert_eq!(
+        (r[0].ident, r[0].air, r[0].material, r[0].los),
+        (40, 0, 0, 100)
+    );
     assert_eq!(r[0].description, "STEERING WHEEL     1-2");
     assert_eq!(r[11].ident, 111);
     assert_eq!(r[11].description, "DUMMY REGION       0");
@@ -272,16 +442,25 @@ fn ident_tables_fill_region_metadata_and_air_is_transparent() {
 
     let Some(l) = load(VDECK) else { return };
     let r = &l.scene.regions;
-    assert_eq!((r[0].ident, r[0].air, r[0].material, r[0].los), (1000, 0, 1, 100));
+    assert_eq!(
+        (r[0].ident, r[0].air, r[0].material, r[0].los),
+        (1000, 0, 1, 100)
+    );
     assert_eq!(r[18].ident, 1018);
     assert_eq!(r[0].description, "all/arb4.r");
     assert!(r.iter().all(|p| !p.transparent));
 
     let Some(l) = load(GENERATOR) else { return };
     let r = &l.scene.regions;
-    assert_eq!((r[0].ident, r[0].air, r[0].material, r[0].los), (1, 0, 3, 100));
+    assert_eq!(
+        (r[0].ident, r[0].air, r[0].material, r[0].los),
+        (1, 0, 3, 100)
+    );
     assert_eq!(r[0].description, "CRANKSHAFT");
-    assert_eq!((r[5].ident, r[5].air, r[5].material, r[5].los), (0, 5, 0, 0));
+    assert_eq!(
+        (r[5].ident, r[5].air, r[5].material, r[5].los),
+        (0, 5, 0, 0)
+    );
     assert_eq!(r[5].description, "1AIR C-ROD");
     assert!(r[5].transparent && !r[4].transparent);
     assert_eq!(r[276].los, 60);
@@ -298,7 +477,11 @@ fn round_trip(scene: &Scene) -> Scene {
             assert!(l.warnings.is_empty(), "{:?}", l.warnings);
             l.scene
         }
-        Err(d) => panic!("written deck does not read:\n{}\n{}", d.render_plain(), w.text),
+        Err(d) => panic!(
+            "written deck does not read:\n{}\n{}",
+            d.render_plain(),
+            w.text
+        ),
     }
 }
 
@@ -307,7 +490,10 @@ fn assert_same_props(a: &Scene, b: &Scene) {
     assert_eq!(a.units, b.units);
     assert_eq!(a.regions.len(), b.regions.len());
     for (x, y) in a.regions.iter().zip(&b.regions) {
-        assert_eq!((x.ident, x.air, x.material, x.los, x.transparent), (y.ident, y.air, y.material, y.los, y.transparent));
+        assert_eq!(
+            (x.ident, x.air, x.material, x.los, x.transparent),
+            (y.ident, y.air, y.material, y.los, y.transparent)
+        );
         assert_eq!(x.description, y.description);
     }
 }
@@ -330,7 +516,10 @@ fn written_v5_decks_read_back_to_the_same_geometry() {
 fn written_gift_deck_reads_back_with_the_foci_ell_in_centre_form() {
     let Some(l) = load(GIFT) else { return };
     let w = comgeom::write(&l.scene).unwrap();
-    assert_eq!(w.notes, ["body 5: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"]);
+    assert_eq!(
+        w.notes,
+        ["body 5: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"]
+    );
     let again = round_trip(&l.scene);
     let mut expect: Geometry = l.scene.geometry.clone();
     let ell = &mut expect.bodies[4];
@@ -343,22 +532,37 @@ fn written_gift_deck_reads_back_with_the_foci_ell_in_centre_form() {
 
 #[test]
 fn writer_keeps_full_precision_and_says_when_it_cannot() {
-    let text = v5_deck(1, 1, &[v5_body("1", "SPH", &["1.5e-7", "-2.25", "1e20", "0.1"])], &[v5_region("1", &[("", 1)])]);
+    let text = v5_deck(
+        1,
+        1,
+        &[v5_body("1", "SPH", &["1.5e-7", "-2.25", "1e20", "0.1"])],
+        &[v5_region("1", &[("", 1)])],
+    );
     let mut scene = read_text("p.cg", &text).unwrap().scene;
     scene.geometry.bodies[0].params[3] = 0.1 + 0.2;
     let w = comgeom::write(&scene).unwrap();
     let again = read_text("w.cg", &w.text).unwrap().scene;
     assert_eq!(again.geometry.bodies[0].params[..3], [1.5e-7, -2.25, 1e20]);
     assert!((again.geometry.bodies[0].params[3] - 0.3).abs() < 1e-9);
-    assert_eq!(w.notes, ["body 1 (SPH): value 4 (0.30000000000000004) written as 0.30000000 to fit 10 columns"]);
+    assert_eq!(
+        w.notes,
+        ["body 1 (SPH): value 4 (0.30000000000000004) written as 0.30000000 to fit 10 columns"]
+    );
 }
 
 #[test]
 fn writer_refuses_bodies_comgeom_cannot_express() {
     let mut scene = Scene::default();
-    scene.geometry.bodies.push(sv_geom::Body::new("wall", BodyKind::Xcc, vec![0.0, 0.0, 1.0]));
+    scene.geometry.bodies.push(sv_geom::Body::new(
+        "wall",
+        BodyKind::Xcc,
+        vec![0.0, 0.0, 1.0],
+    ));
     let e = comgeom::write(&scene).unwrap_err();
-    assert_eq!(e.to_string(), "body wall is a XCC, which a COMGEOM deck cannot express");
+    assert_eq!(
+        e.to_string(),
+        "body wall is a XCC, which a COMGEOM deck cannot express"
+    );
 }
 
 // ---------------------------------------------------------------- versions
@@ -396,10 +600,24 @@ fn ell_means_foci_in_v4_and_centre_in_v5() {
     let v4 = "in   v4\n                   1         1\n1  ELL       0.        0.        0.        2.        0.        0.\n1             4.\n  1       1\n-1\n\n  1         100\n";
     assert_eq!(comgeom::detect_version(v4), DeckVersion::V4);
     let b = &read_text("v4.cg", v4).unwrap().scene.geometry.bodies[0];
-    assert_eq!((b.kind, b.params.as_slice()), (BodyKind::Ell, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..]));
-    let v5 = v5_deck(1, 1, &[v5_body("1", "ell", &["0.", "0.", "0.", "2.", "0.", "0."]), v5_body("", "", &["4."])], &[v5_region("1", &[("", 1)])]);
+    assert_eq!(
+        (b.kind, b.params.as_slice()),
+        (BodyKind::Ell, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..])
+    );
+    let v5 = v5_deck(
+        1,
+        1,
+        &[
+            v5_body("1", "ell", &["0.", "0.", "0.", "2.", "0.", "0."]),
+            v5_body("", "", &["4."]),
+        ],
+        &[v5_region("1", &[("", 1)])],
+    );
     let b = &read_text("v5.cg", &v5).unwrap().scene.geometry.bodies[0];
-    assert_eq!((b.kind, b.params.as_slice()), (BodyKind::Ell1, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..]));
+    assert_eq!(
+        (b.kind, b.params.as_slice()),
+        (BodyKind::Ell1, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..])
+    );
 }
 
 #[test]
@@ -407,28 +625,47 @@ fn a_blank_card_after_minus_one_means_v4() {
     // No body card to tell (an unknown type), so the blank card decides.
     let deck = "in   t\n    1    1\n    1XYZ       1.\n    1       1\n   -1\n\n    1  100\n";
     assert_eq!(comgeom::detect_version(deck), DeckVersion::V4);
-    assert_eq!(comgeom::detect_version(&deck.replace("\n\n", "\n")), DeckVersion::V5);
+    assert_eq!(
+        comgeom::detect_version(&deck.replace("\n\n", "\n")),
+        DeckVersion::V5
+    );
 }
 
 #[test]
 fn units_are_case_blind_and_unknown_units_warn_and_mean_inches() {
     let body = [sph(1)];
     let region = [v5_region("1", &[("", 1)])];
-    for (card, units) in [("MM", Units::Millimetre), ("ft", Units::Foot), ("Cm", Units::Centimetre), ("m ", Units::Metre)] {
+    for (card, units) in [
+        ("MM", Units::Millimetre),
+        ("ft", Units::Foot),
+        ("Cm", Units::Centimetre),
+        ("m ", Units::Metre),
+    ] {
         let deck = v5_deck(1, 1, &body, &region).replacen("in ", card, 1);
-        assert_eq!(read_text("u.cg", &deck).unwrap().scene.units, units, "{card}");
+        assert_eq!(
+            read_text("u.cg", &deck).unwrap().scene.units,
+            units,
+            "{card}"
+        );
     }
     let deck = v5_deck(1, 1, &body, &region).replacen("in ", "yd ", 1);
     let l = read_text("u.cg", &deck).unwrap();
     assert_eq!(l.scene.units, Units::Inch);
-    assert_eq!(l.warnings[0].message, "line 1, columns 1–2: unknown units \"yd\"; inches assumed");
+    assert_eq!(
+        l.warnings[0].message,
+        "line 1, columns 1–2: unknown units \"yd\"; inches assumed"
+    );
 }
 
 // ---------------------------------------------------------------- region references
 
 /// Membership of a point described by which bodies contain it.
 fn in_zones(zones: &[sv_geom::Zone], inside: &dyn Fn(usize) -> bool) -> bool {
-    zones.iter().any(|z| z.terms.iter().all(|t| inside(t.body) == (t.op == Op::Inside)))
+    zones.iter().any(|z| {
+        z.terms
+            .iter()
+            .all(|t| inside(t.body) == (t.op == Op::Inside))
+    })
 }
 
 #[test]
@@ -451,7 +688,12 @@ fn region_references_expand_to_the_same_point_sets() {
         let r3 = b(4) && r1 && !r2;
         let r4 = (b(5) && !r3) || b(0);
         for (i, want) in [r1, r2, r3, r4].into_iter().enumerate() {
-            assert_eq!(in_zones(&g.regions[i].zones, &b), want, "region {} bodies {bits:06b}", i + 1);
+            assert_eq!(
+                in_zones(&g.regions[i].zones, &b),
+                want,
+                "region {} bodies {bits:06b}",
+                i + 1
+            );
         }
     }
     // The expansion is plain body terms, so it writes and reads back.
@@ -464,11 +706,16 @@ fn region_expansion_is_capped() {
     // gives 9^3 = 729 zones. Region 2 is one zone of 9 terms, so subtracting
     // it splits each zone in 9: 6561 zones, over the cap.
     let bodies: Vec<String> = (1..=18).map(sph).collect();
-    let wide: Vec<(&str, i64)> = (1..=9).map(|n| if n == 1 { ("", n) } else { ("OR", n) }).collect();
+    let wide: Vec<(&str, i64)> = (1..=9)
+        .map(|n| if n == 1 { ("", n) } else { ("OR", n) })
+        .collect();
     let pairs: Vec<(&str, i64)> = (1..=9).map(|n| ("", n)).collect();
     let regions = [
         v5_region("1", &wide),
-        v5_region("2", &pairs.iter().map(|&(o, n)| (o, n + 9)).collect::<Vec<_>>()),
+        v5_region(
+            "2",
+            &pairs.iter().map(|&(o, n)| (o, n + 9)).collect::<Vec<_>>(),
+        ),
         v5_region("3", &[("G", 1), ("G", 1), ("G", 1), ("G", -2)]),
     ];
     let errs = errors(&v5_deck(18, 3, &bodies, &regions));
@@ -478,7 +725,12 @@ fn region_expansion_is_capped() {
 #[test]
 fn missing_and_cyclic_region_references_are_errors() {
     let bodies = [sph(1)];
-    let regions = [v5_region("1", &[("", 1), ("G", -2)]), v5_region("2", &[("G", 3)]), v5_region("3", &[("G", 2)]), v5_region("4", &[("G", 9)])];
+    let regions = [
+        v5_region("1", &[("", 1), ("G", -2)]),
+        v5_region("2", &[("G", 3)]),
+        v5_region("3", &[("G", 2)]),
+        v5_region("4", &[("G", 9)]),
+    ];
     assert_eq!(
         errors(&v5_deck(1, 4, &bodies, &regions)),
         [
@@ -495,55 +747,109 @@ fn a_malformed_number_names_line_columns_field_and_text() {
     let deck = v5_deck(
         1,
         1,
-        &[v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "0.", "10."]), v5_body("", "", &["12.7O"])],
+        &[
+            v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "0.", "10."]),
+            v5_body("", "", &["12.7O"]),
+        ],
         &[v5_region("1", &[("", 1)])],
     );
     let d = read_text("bad.cg", &deck).unwrap_err();
     assert_eq!(d.items.len(), 1);
     let e = &d.items[0];
-    assert_eq!(e.message, "line 4, columns 11–20: expected a number for RCC radius (R) (body 1), found \"12.7O\"");
-    assert_eq!(e.hint.as_deref(), Some("numbers are plain decimals such as 12.5, -3., .75 or 1.5E-3"));
+    assert_eq!(
+        e.message,
+        "line 4, columns 11–20: expected a number for RCC radius (R) (body 1), found \"12.7O\""
+    );
+    assert_eq!(
+        e.hint.as_deref(),
+        Some("numbers are plain decimals such as 12.5, -3., .75 or 1.5E-3")
+    );
     assert_eq!(
         e.render_plain(),
         "error: line 4, columns 11–20: expected a number for RCC radius (R) (body 1), found \"12.7O\"\n --> bad.cg:4:11\n  |\n4 |                12.7O\n  |           ^^^^^^^^^^\n  = hint: numbers are plain decimals such as 12.5, -3., .75 or 1.5E-3\n"
     );
     // A vector component is named too.
-    let deck = v5_deck(1, 1, &[v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "1D3", "10."]), v5_body("", "", &["1."])], &[v5_region("1", &[("", 1)])]);
+    let deck = v5_deck(
+        1,
+        1,
+        &[
+            v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "1D3", "10."]),
+            v5_body("", "", &["1."]),
+        ],
+        &[v5_region("1", &[("", 1)])],
+    );
     assert_eq!(errors(&deck), ["line 3, columns 51–60: expected a number for RCC height vector (H.y) (body 1), found \"1D3\""]);
 }
 
 #[test]
 fn an_unknown_body_type_is_an_error_with_a_suggestion() {
-    let deck = v5_deck(2, 1, &[v5_body("1", "SHP", &["0.", "0.", "0.", "1."]), sph(2)], &[v5_region("1", &[("", 2)])]);
+    let deck = v5_deck(
+        2,
+        1,
+        &[v5_body("1", "SHP", &["0.", "0.", "0.", "1."]), sph(2)],
+        &[v5_region("1", &[("", 2)])],
+    );
     let d = read_text("bad.cg", &deck).unwrap_err();
     let e = d.errors().next().unwrap();
-    assert_eq!(e.message, "line 3, columns 6–10: unknown body type \"SHP\" (body 1)");
+    assert_eq!(
+        e.message,
+        "line 3, columns 6–10: unknown body type \"SHP\" (body 1)"
+    );
     assert_eq!(e.hint.as_deref(), Some("did you mean \"SPH\"?"));
     assert_eq!(d.errors().count(), 1);
     // FLUKA bodies are not COMGEOM bodies.
-    let deck = v5_deck(1, 1, &[v5_body("1", "XYZZY", &["1."])], &[v5_region("1", &[("", 1)])]);
+    let deck = v5_deck(
+        1,
+        1,
+        &[v5_body("1", "XYZZY", &["1."])],
+        &[v5_region("1", &[("", 1)])],
+    );
     let d = read_text("bad.cg", &deck).unwrap_err();
     let e = d.errors().next().unwrap();
-    assert_eq!(e.message, "line 3, columns 6–10: unknown body type \"XYZZY\" (body 1)");
-    assert!(e.hint.as_deref().unwrap().starts_with("COMGEOM body types are ARB4, ARB5"));
+    assert_eq!(
+        e.message,
+        "line 3, columns 6–10: unknown body type \"XYZZY\" (body 1)"
+    );
+    assert!(e
+        .hint
+        .as_deref()
+        .unwrap()
+        .starts_with("COMGEOM body types are ARB4, ARB5"));
 }
 
 #[test]
 fn a_missing_body_names_the_region_and_the_body() {
-    let deck = v5_deck(1, 2, &[sph(1)], &[v5_region("1", &[("", 1)]), v5_region("2", &[("", 1), ("", -23)])]);
+    let deck = v5_deck(
+        1,
+        2,
+        &[sph(1)],
+        &[
+            v5_region("1", &[("", 1)]),
+            v5_region("2", &[("", 1), ("", -23)]),
+        ],
+    );
     assert_eq!(errors(&deck), ["line 5, columns 16–20: region 2 refers to body 23, which is not defined (the deck has 1 bodies)"]);
 }
 
 #[test]
 fn truncated_bodies_are_errors() {
     // The RCC's second card is missing: the next card is a body.
-    let deck = v5_deck(2, 1, &[v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "0.", "1."]), sph(2)], &[v5_region("1", &[("", 2)])]);
+    let deck = v5_deck(
+        2,
+        1,
+        &[
+            v5_body("1", "RCC", &["0.", "0.", "0.", "0.", "0.", "1."]),
+            sph(2),
+        ],
+        &[v5_region("1", &[("", 2)])],
+    );
     assert_eq!(
         errors(&deck),
         ["line 4, columns 6–10: expected continuation card 2 of 2 for body 1 (RCC), a card with a blank type field, found \"SPH\""]
     );
     // The deck ends inside a body.
-    let deck = "in   t\n    1    1\n    1ARB8      0.        0.        0.        1.        0.        0.\n";
+    let deck =
+        "in   t\n    1    1\n    1ARB8      0.        0.        0.        1.        0.        0.\n";
     assert_eq!(
         errors(deck),
         [
@@ -555,12 +861,22 @@ fn truncated_bodies_are_errors() {
 
 #[test]
 fn an_ars_claiming_more_points_than_the_deck_holds_is_refused_without_allocating() {
-    let deck = v5_deck(2, 1, &[v5_body("1", "ARS", &["1000000", "1000000000"]), sph(2)], &[v5_region("1", &[("", 2)])]);
+    let deck = v5_deck(
+        2,
+        1,
+        &[v5_body("1", "ARS", &["1000000", "1000000000"]), sph(2)],
+        &[v5_region("1", &[("", 2)])],
+    );
     assert_eq!(
         errors(&deck),
         ["line 3, columns 11–30: ARS body 1 claims 1000000 curves of 1000000000 points (500000000000000 cards), but only 3 cards follow"]
     );
-    let deck = v5_deck(1, 1, &[v5_body("1", "ARS", &["0", "x"])], &[v5_region("1", &[("", 1)])]);
+    let deck = v5_deck(
+        1,
+        1,
+        &[v5_body("1", "ARS", &["0", "x"])],
+        &[v5_region("1", &[("", 1)])],
+    );
     assert_eq!(
         errors(&deck),
         [
@@ -581,7 +897,12 @@ fn every_error_of_a_deck_is_reported_at_once_in_file_order() {
             v5_body("3", "RPP", &["0.", "1.", "0.", "1.", "0.", "?"]),
             sph(4),
         ],
-        &[v5_region("1", &[("", 1)]), v5_region("2", &[("", 9)]), v5_region("3", &[("XX", 4)]), v5_region("2", &[("", 4)])],
+        &[
+            v5_region("1", &[("", 1)]),
+            v5_region("2", &[("", 9)]),
+            v5_region("3", &[("XX", 4)]),
+            v5_region("2", &[("", 4)]),
+        ],
     ) + "    7    1    0    0  100\n";
     assert_eq!(
         errors(&deck),
@@ -599,7 +920,13 @@ fn every_error_of_a_deck_is_reported_at_once_in_file_order() {
 
 #[test]
 fn bad_control_region_and_ident_fields_are_errors() {
-    let deck = v5_deck(1, 1, &[sph(1)], &[v5_region("1", &[("", 1)]), "   x1      1".into()]).replacen("    1    1\n", "    one\n", 1)
+    let deck = v5_deck(
+        1,
+        1,
+        &[sph(1)],
+        &[v5_region("1", &[("", 1)]), "   x1      1".into()],
+    )
+    .replacen("    1    1\n", "    one\n", 1)
         + "    1  1x0\n";
     assert_eq!(
         errors(&deck),
@@ -613,8 +940,16 @@ fn bad_control_region_and_ident_fields_are_errors() {
 
 #[test]
 fn body_numbers_must_count_up_in_v5() {
-    let deck = v5_deck(2, 1, &[sph(1), v5_body("3", "SPH", &["0.", "0.", "0.", "1."])], &[v5_region("1", &[("", 1)])]);
-    assert_eq!(errors(&deck), ["line 4, columns 1–5: expected body number 2, found \"3\""]);
+    let deck = v5_deck(
+        2,
+        1,
+        &[sph(1), v5_body("3", "SPH", &["0.", "0.", "0.", "1."])],
+        &[v5_region("1", &[("", 1)])],
+    );
+    assert_eq!(
+        errors(&deck),
+        ["line 4, columns 1–5: expected body number 2, found \"3\""]
+    );
 }
 
 #[test]
@@ -646,7 +981,11 @@ enum Mutation {
 fn mutate(text: &str, muts: &[Mutation]) -> String {
     let mut bytes = text.as_bytes().to_vec();
     for m in muts {
-        let lines = |b: &[u8]| b.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect::<Vec<_>>();
+        let lines = |b: &[u8]| {
+            b.split(|&c| c == b'\n')
+                .map(<[u8]>::to_vec)
+                .collect::<Vec<_>>()
+        };
         match m {
             Mutation::Flip(i, v) if !bytes.is_empty() => {
                 let n = bytes.len();

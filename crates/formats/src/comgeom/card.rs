@@ -41,7 +41,10 @@ fn byte_at(s: &str, chars: usize) -> usize {
 pub(crate) fn cards(text: &str) -> Vec<Card<'_>> {
     text.split('\n')
         .enumerate()
-        .map(|(i, l)| Card { line: i + 1, text: l.strip_suffix('\r').unwrap_or(l) })
+        .map(|(i, l)| Card {
+            line: i + 1,
+            text: l.strip_suffix('\r').unwrap_or(l),
+        })
         .collect()
 }
 
@@ -77,7 +80,11 @@ pub(crate) fn parse_real(field: &str) -> Option<f64> {
     }
     if digits == 0 {
         // `.`, `-.` and `+.` are zero on the old decks; a lone sign is not.
-        return if point && i == b.len() { Some(0.0) } else { None };
+        return if point && i == b.len() {
+            Some(0.0)
+        } else {
+            None
+        };
     }
     if i < b.len() && matches!(b[i], b'e' | b'E') {
         i += 1;
@@ -137,7 +144,10 @@ mod tests {
 
     #[test]
     fn fields_are_character_columns_and_short_lines_are_blank() {
-        let c = Card { line: 1, text: "ab\u{e9}def" };
+        let c = Card {
+            line: 1,
+            text: "ab\u{e9}def",
+        };
         assert_eq!(c.field(3, 2), "\u{e9}d");
         assert_eq!(c.field(6, 10), "f");
         assert_eq!(c.field(20, 10), "");

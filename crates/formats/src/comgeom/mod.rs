@@ -54,8 +54,8 @@ use sv_geom::BodyKind;
 
 /// The body type names a COMGEOM deck may use (any case).
 pub const TYPE_NAMES: &[&str] = &[
-    "ARB4", "ARB5", "ARB6", "ARB7", "ARB8", "ARS", "BOX", "ELL", "ELL1", "ELLG", "HAF", "RAW", "RCC", "REC", "RPP", "SPH",
-    "TEC", "TGC", "TOR", "TRC", "WED",
+    "ARB4", "ARB5", "ARB6", "ARB7", "ARB8", "ARS", "BOX", "ELL", "ELL1", "ELLG", "HAF", "RAW",
+    "RCC", "REC", "RPP", "SPH", "TEC", "TGC", "TOR", "TRC", "WED",
 ];
 
 /// The body kind of a COMGEOM type name in a given layout version.

@@ -28,10 +28,28 @@ struct Layout {
 
 fn layout(v: DeckVersion) -> Layout {
     match v {
-        DeckVersion::V5 => Layout { num_col: 1, num_len: 5, type_col: 6, type_len: 5, region_fields: 7 },
+        DeckVersion::V5 => Layout {
+            num_col: 1,
+            num_len: 5,
+            type_col: 6,
+            type_len: 5,
+            region_fields: 7,
+        },
         // comgeom-g reads the v4 type from columns 4-10.
-        DeckVersion::V4 => Layout { num_col: 1, num_len: 3, type_col: 4, type_len: 7, region_fields: 7 },
-        DeckVersion::V1 => Layout { num_col: 6, num_len: 4, type_col: 3, type_len: 3, region_fields: 11 },
+        DeckVersion::V4 => Layout {
+            num_col: 1,
+            num_len: 3,
+            type_col: 4,
+            type_len: 7,
+            region_fields: 7,
+        },
+        DeckVersion::V1 => Layout {
+            num_col: 6,
+            num_len: 4,
+            type_col: 3,
+            type_len: 3,
+            region_fields: 11,
+        },
     }
 }
 
@@ -78,7 +96,10 @@ pub fn detect_version(text: &str) -> DeckVersion {
     }
     for (i, c) in all.iter().enumerate() {
         if c.field(1, 5).trim() == "-1" && c.field(6, 200).trim().is_empty() {
-            if all.get(i + 1).is_some_and(|n| n.is_blank() && i + 2 < all.len()) {
+            if all
+                .get(i + 1)
+                .is_some_and(|n| n.is_blank() && i + 2 < all.len())
+            {
                 return DeckVersion::V4;
             }
             break;
@@ -127,7 +148,9 @@ struct Reader<'a> {
 
 /// Read a COMGEOM deck; see the [module documentation](super).
 pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics> {
-    let version = opts.deck_version.unwrap_or_else(|| detect_version(&src.text));
+    let version = opts
+        .deck_version
+        .unwrap_or_else(|| detect_version(&src.text));
     let mut r = Reader {
         src,
         cards: cards(&src.text),
@@ -141,7 +164,10 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
     };
     let scene = r.deck();
     match scene {
-        Some(scene) if r.errors.is_empty() => Ok(Loaded { scene, warnings: r.warnings }),
+        Some(scene) if r.errors.is_empty() => Ok(Loaded {
+            scene,
+            warnings: r.warnings,
+        }),
         _ => {
             let mut items = r.errors;
             items.append(&mut r.warnings);
@@ -155,7 +181,10 @@ impl<'a> Reader<'a> {
     /// A diagnostic at columns of a line; the caret is kept on the line even
     /// when the line is shorter than the field.
     fn diag(&self, line: usize, col: usize, len: usize, msg: String) -> Diagnostic {
-        let width = self.cards.get(line.wrapping_sub(1)).map_or(0, |c| c.text.chars().count());
+        let width = self
+            .cards
+            .get(line.wrapping_sub(1))
+            .map_or(0, |c| c.text.chars().count());
         let c = col.min(width + 1).max(1);
         let l = len.min((width + 1).saturating_sub(c));
         Diagnostic::error_at(self.src, line, c, l, msg)
@@ -190,7 +219,11 @@ impl<'a> Reader<'a> {
     }
 
     fn last_line(&self) -> usize {
-        self.cards.iter().rev().find(|c| !c.is_blank()).map_or(1, |c| c.line)
+        self.cards
+            .iter()
+            .rev()
+            .find(|c| !c.is_blank())
+            .map_or(1, |c| c.line)
     }
 
     fn type_field(&self, card: &Card<'a>) -> &'a str {
@@ -211,7 +244,15 @@ impl<'a> Reader<'a> {
             scene.units = match Units::parse(u) {
                 Some(units) if u.len() <= 2 => units,
                 _ => {
-                    self.warn(title.line, 1, 2, format!("{}: unknown units \"{u}\"; inches assumed", at(title.line, 1, 2)));
+                    self.warn(
+                        title.line,
+                        1,
+                        2,
+                        format!(
+                            "{}: unknown units \"{u}\"; inches assumed",
+                            at(title.line, 1, 2)
+                        ),
+                    );
                     Units::Inch
                 }
             };
@@ -222,12 +263,23 @@ impl<'a> Reader<'a> {
         let regions = self.region_table();
         let mut props: Vec<RegionProps> = regions
             .iter()
-            .map(|r| RegionProps { description: r.comment.clone(), ..RegionProps::default() })
+            .map(|r| RegionProps {
+                description: r.comment.clone(),
+                ..RegionProps::default()
+            })
             .collect();
         if self.version != DeckVersion::V1 {
             self.ident_table(&regions, &mut props);
         } else if let Some(c) = self.peek() {
-            self.warn(c.line, 1, 0, format!("line {}: cards after the end of the region table are ignored", c.line));
+            self.warn(
+                c.line,
+                1,
+                0,
+                format!(
+                    "line {}: cards after the end of the region table are ignored",
+                    c.line
+                ),
+            );
         }
         let zones = self.resolve_all(&regions);
 
@@ -242,12 +294,24 @@ impl<'a> Reader<'a> {
         if !self.errors.is_empty() {
             return None;
         }
-        let bodies: Vec<Body> = std::mem::take(&mut self.bodies).into_iter().flatten().collect();
-        scene.geometry = Geometry { bodies, regions: Vec::new() };
+        let bodies: Vec<Body> = std::mem::take(&mut self.bodies)
+            .into_iter()
+            .flatten()
+            .collect();
+        scene.geometry = Geometry {
+            bodies,
+            regions: Vec::new(),
+        };
         for ((raw, zones), mut p) in regions.iter().zip(zones).zip(props) {
             p.transparent = p.air != 0;
             let zones = zones.into_iter().map(|terms| Zone { terms }).collect();
-            scene.push_region(Region { name: raw.number.to_string(), zones }, p);
+            scene.push_region(
+                Region {
+                    name: raw.number.to_string(),
+                    zones,
+                },
+                p,
+            );
         }
         Some(scene)
     }
@@ -256,7 +320,13 @@ impl<'a> Reader<'a> {
     fn control_card(&mut self) -> Option<(i64, i64, usize)> {
         let card = self.peek()?;
         let toks: Vec<&str> = card.text.split_whitespace().collect();
-        let free = if toks.len() == 2 { toks.iter().map(|t| parse_int(t)).collect::<Option<Vec<_>>>() } else { None };
+        let free = if toks.len() == 2 {
+            toks.iter()
+                .map(|t| parse_int(t))
+                .collect::<Option<Vec<_>>>()
+        } else {
+            None
+        };
         let fixed = || {
             let (a, b) = match self.version {
                 DeckVersion::V4 => (card.field(1, 20), card.field(21, 10)),
@@ -270,7 +340,8 @@ impl<'a> Reader<'a> {
                 Some((v[0], v[1], card.line))
             }
             _ => {
-                let looks_like_body = kind_for(self.type_field(&card).trim(), self.version).is_some();
+                let looks_like_body =
+                    kind_for(self.type_field(&card).trim(), self.version).is_some();
                 if !looks_like_body {
                     self.pos += 1;
                 }
@@ -291,7 +362,14 @@ impl<'a> Reader<'a> {
             let Some(card) = self.peek() else {
                 if self.version == DeckVersion::V1 {
                     let l = self.last_line();
-                    self.error(l, 1, 0, format!("line {l}: the deck ends inside the body table: expected an END card"));
+                    self.error(
+                        l,
+                        1,
+                        0,
+                        format!(
+                            "line {l}: the deck ends inside the body table: expected an END card"
+                        ),
+                    );
                 }
                 return;
             };
@@ -345,7 +423,11 @@ impl<'a> Reader<'a> {
                     header.line,
                     lay.num_col,
                     lay.num_len,
-                    format!("{}: expected body number {number}, found \"{}\"", at(header.line, lay.num_col, lay.num_len), f.trim()),
+                    format!(
+                        "{}: expected body number {number}, found \"{}\"",
+                        at(header.line, lay.num_col, lay.num_len),
+                        f.trim()
+                    ),
                 )
                 .hint = Some("v5 body cards are numbered 1, 2, 3, … in deck order".into());
             }
@@ -360,7 +442,10 @@ impl<'a> Reader<'a> {
                 header.line,
                 lay.type_col,
                 lay.type_len,
-                format!("{}: unknown body type \"{ty}\" (body {number})", at(header.line, lay.type_col, lay.type_len)),
+                format!(
+                    "{}: unknown body type \"{ty}\" (body {number})",
+                    at(header.line, lay.type_col, lay.type_len)
+                ),
             )
             .hint = Some(hint);
             self.skip_continuations();
@@ -371,7 +456,9 @@ impl<'a> Reader<'a> {
         } else {
             let n = kind.info().value_count();
             let mut vals = Vec::with_capacity(n);
-            let mut ok = self.values(header, number, kind, n, &mut vals, &|i| param_label(kind, i));
+            let mut ok = self.values(header, number, kind, n, &mut vals, &|i| {
+                param_label(kind, i)
+            });
             let mut card = header;
             let total = n.div_ceil(6);
             for k in 2..=total {
@@ -387,7 +474,15 @@ impl<'a> Reader<'a> {
     }
 
     /// Read up to six values of a card into `vals` (until it holds `n`).
-    fn values(&mut self, card: Card<'a>, number: usize, kind: BodyKind, n: usize, vals: &mut Vec<f64>, label: &dyn Fn(usize) -> String) -> bool {
+    fn values(
+        &mut self,
+        card: Card<'a>,
+        number: usize,
+        kind: BodyKind,
+        n: usize,
+        vals: &mut Vec<f64>,
+        label: &dyn Fn(usize) -> String,
+    ) -> bool {
         let mut ok = true;
         for f in 0..6 {
             if vals.len() >= n {
@@ -403,7 +498,12 @@ impl<'a> Reader<'a> {
                         card.line,
                         col,
                         10,
-                        format!("{}: expected a number for {} {what} (body {number}), found \"{}\"", at(card.line, col, 10), kind.name(), text.trim()),
+                        format!(
+                            "{}: expected a number for {} {what} (body {number}), found \"{}\"",
+                            at(card.line, col, 10),
+                            kind.name(),
+                            text.trim()
+                        ),
                     )
                     .hint = Some(NUMBER_HINT.into());
                     vals.push(0.0);
@@ -415,7 +515,14 @@ impl<'a> Reader<'a> {
     }
 
     /// The next card, which must continue body `number`.
-    fn continuation(&mut self, prev: Card<'a>, number: usize, kind: BodyKind, k: usize, total: usize) -> Option<Card<'a>> {
+    fn continuation(
+        &mut self,
+        prev: Card<'a>,
+        number: usize,
+        kind: BodyKind,
+        k: usize,
+        total: usize,
+    ) -> Option<Card<'a>> {
         let lay = self.lay;
         match self.peek() {
             Some(c) if self.type_field(&c).trim().is_empty() => {
@@ -453,7 +560,10 @@ impl<'a> Reader<'a> {
     fn ars(&mut self, header: Card<'a>, number: usize) -> Option<Vec<f64>> {
         let mut counts = [0usize; 2];
         let mut ok = true;
-        for (i, what) in ["curve count", "number of points per curve"].iter().enumerate() {
+        for (i, what) in ["curve count", "number of points per curve"]
+            .iter()
+            .enumerate()
+        {
             let col = 11 + 10 * i;
             let text = header.field(col, 10);
             match parse_int(text) {
@@ -476,7 +586,10 @@ impl<'a> Reader<'a> {
         let [curves, ppc] = counts;
         let per_curve = (ppc as u128 * 3).div_ceil(6);
         let needed = curves as u128 * per_curve;
-        let remaining = self.cards[self.pos..].iter().filter(|c| !c.is_blank()).count();
+        let remaining = self.cards[self.pos..]
+            .iter()
+            .filter(|c| !c.is_blank())
+            .count();
         if needed > remaining as u128 {
             self.error(
                 header.line,
@@ -499,9 +612,15 @@ impl<'a> Reader<'a> {
             let mut curve = Vec::with_capacity(ppc * 3);
             for k in 0..per_curve {
                 let idx = 2 + c * per_curve + k;
-                card = self.continuation(card, number, BodyKind::Ars, idx, 1 + curves * per_curve)?;
+                card =
+                    self.continuation(card, number, BodyKind::Ars, idx, 1 + curves * per_curve)?;
                 ok &= self.values(card, number, BodyKind::Ars, ppc * 3, &mut curve, &|i| {
-                    format!("curve {} point {} ({})", c + 1, i / 3 + 1, ["x", "y", "z"][i % 3])
+                    format!(
+                        "curve {} point {} ({})",
+                        c + 1,
+                        i / 3 + 1,
+                        ["x", "y", "z"][i % 3]
+                    )
                 });
             }
             vals.extend(curve);
@@ -517,7 +636,12 @@ impl<'a> Reader<'a> {
         if self.peek().is_none() {
             let l = self.last_line();
             let end = self.cards.get(l - 1).map_or(0, |c| c.text.chars().count());
-            self.error(l, end + 1, 0, format!("line {l}: the deck ends before the region table"));
+            self.error(
+                l,
+                end + 1,
+                0,
+                format!("line {l}: the deck ends before the region table"),
+            );
             return regions;
         }
         loop {
@@ -549,7 +673,15 @@ impl<'a> Reader<'a> {
                 }
             } else if let Some(&i) = by_number.get(&num) {
                 let first = regions[i].line;
-                self.error(card.line, 1, 5, format!("{}: region {num} is defined twice (first on line {first})", at(card.line, 1, 5)));
+                self.error(
+                    card.line,
+                    1,
+                    5,
+                    format!(
+                        "{}: region {num} is defined twice (first on line {first})",
+                        at(card.line, 1, 5)
+                    ),
+                );
                 continue;
             } else {
                 by_number.insert(num, regions.len());
@@ -581,16 +713,33 @@ impl<'a> Reader<'a> {
                 if n == 0 {
                     continue;
                 }
-                let up: Vec<char> = op.chars().map(|c| c.to_ascii_uppercase()).chain([' ', ' ']).take(2).collect();
+                let up: Vec<char> = op
+                    .chars()
+                    .map(|c| c.to_ascii_uppercase())
+                    .chain([' ', ' '])
+                    .take(2)
+                    .collect();
                 let (region_ref, new_zone, op_minus) = match (up[0], up[1]) {
                     ('O', 'R') => (false, true, false),
                     ('O', 'G') => (true, true, false),
                     (c0, 'G') if matches!(c0, ' ' | '+' | '-') => (true, false, c0 == '-'),
-                    (c0, c1) if matches!(c0, ' ' | '+' | '-') && matches!(c1, ' ' | '+' | '-') => (false, false, c0 == '-' || c1 == '-'),
+                    (c0, c1) if matches!(c0, ' ' | '+' | '-') && matches!(c1, ' ' | '+' | '-') => {
+                        (false, false, c0 == '-' || c1 == '-')
+                    }
                     _ => {
                         self.errors.push(
-                            self.diag(card.line, col, 2, format!("{}: expected an operator (blank, OR, G or OG), found \"{op}\"", at(card.line, col, 2)))
-                                .with_hint("OR starts a new zone; G marks the number as a region, not a body"),
+                            self.diag(
+                                card.line,
+                                col,
+                                2,
+                                format!(
+                                    "{}: expected an operator (blank, OR, G or OG), found \"{op}\"",
+                                    at(card.line, col, 2)
+                                ),
+                            )
+                            .with_hint(
+                                "OR starts a new zone; G marks the number as a region, not a body",
+                            ),
                         );
                         continue;
                     }
@@ -613,7 +762,13 @@ impl<'a> Reader<'a> {
                     region.zones.push(Vec::new());
                 }
                 region.has_refs |= region_ref;
-                let term = RawTerm { region_ref, negate: n < 0 || op_minus, number, line: card.line, col: col + 2 };
+                let term = RawTerm {
+                    region_ref,
+                    negate: n < 0 || op_minus,
+                    number,
+                    line: card.line,
+                    col: col + 2,
+                };
                 region.zones.last_mut().expect("a zone exists").push(term);
             }
         }
@@ -624,7 +779,11 @@ impl<'a> Reader<'a> {
     }
 
     fn ident_table(&mut self, regions: &[RawRegion], props: &mut [RegionProps]) {
-        let by_number: HashMap<i64, usize> = regions.iter().enumerate().map(|(i, r)| (r.number, i)).collect();
+        let by_number: HashMap<i64, usize> = regions
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (r.number, i))
+            .collect();
         let mut seen: HashMap<usize, usize> = HashMap::new();
         let mut textual: Option<(usize, usize)> = None;
         while let Some(card) = self.next() {
@@ -636,7 +795,16 @@ impl<'a> Reader<'a> {
             };
             let rf = card.field(reg_f.0, reg_f.1);
             let Some(reg) = parse_int(rf) else {
-                self.error(card.line, reg_f.0, reg_f.1, format!("{}: expected a region number on an ident card, found \"{}\"", at(card.line, reg_f.0, reg_f.1), rf.trim()));
+                self.error(
+                    card.line,
+                    reg_f.0,
+                    reg_f.1,
+                    format!(
+                        "{}: expected a region number on an ident card, found \"{}\"",
+                        at(card.line, reg_f.0, reg_f.1),
+                        rf.trim()
+                    ),
+                );
                 continue;
             };
             if reg <= 0 {
@@ -647,13 +815,26 @@ impl<'a> Reader<'a> {
                 return;
             }
             let Some(&ri) = by_number.get(&reg) else {
-                self.error(card.line, reg_f.0, reg_f.1, format!("{}: ident card for region {reg}, which the region table does not define", at(card.line, reg_f.0, reg_f.1)));
+                self.error(
+                    card.line,
+                    reg_f.0,
+                    reg_f.1,
+                    format!(
+                        "{}: ident card for region {reg}, which the region table does not define",
+                        at(card.line, reg_f.0, reg_f.1)
+                    ),
+                );
                 continue;
             };
             if let Some(first) = seen.insert(ri, card.line) {
                 self.warn(card.line, reg_f.0, reg_f.1, format!("{}: second ident card for region {reg} (first on line {first}); this one is used", at(card.line, reg_f.0, reg_f.1)));
             }
-            let names = ["ident code", "air code", "material code", "line-of-sight percent"];
+            let names = [
+                "ident code",
+                "air code",
+                "material code",
+                "line-of-sight percent",
+            ];
             let mut vals: [Option<i64>; 4] = [None; 4];
             let mut has_text = false;
             for (k, &(col, len)) in fields.iter().enumerate() {
@@ -671,7 +852,12 @@ impl<'a> Reader<'a> {
                             card.line,
                             col,
                             len,
-                            format!("{}: expected the {} of region {reg} (an integer), found \"{}\"", at(card.line, col, len), names[k], text.trim()),
+                            format!(
+                                "{}: expected the {} of region {reg} (an integer), found \"{}\"",
+                                at(card.line, col, len),
+                                names[k],
+                                text.trim()
+                            ),
                         );
                     }
                 }
@@ -684,7 +870,11 @@ impl<'a> Reader<'a> {
             p.air = vals[1].unwrap_or(0);
             p.material = vals[2].unwrap_or(0);
             p.los = vals[3].unwrap_or(100);
-            let desc = if v5 { card.rest(26) } else { card.field(31, 44) };
+            let desc = if v5 {
+                card.rest(26)
+            } else {
+                card.field(31, 44)
+            };
             let desc = desc.trim();
             if !desc.is_empty() {
                 p.description = desc.to_string();
@@ -701,12 +891,28 @@ impl<'a> Reader<'a> {
     }
 
     fn resolve_all(&mut self, regions: &[RawRegion]) -> Vec<Vec<Vec<Term>>> {
-        let by_number: HashMap<usize, usize> = regions.iter().enumerate().map(|(i, r)| (r.number as usize, i)).collect();
+        let by_number: HashMap<usize, usize> = regions
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (r.number as usize, i))
+            .collect();
         let mut memo: Vec<Resolve> = regions.iter().map(|_| Resolve::Todo).collect();
-        (0..regions.len()).map(|i| self.resolve(i, regions, &by_number, &mut memo, 0).unwrap_or_default()).collect()
+        (0..regions.len())
+            .map(|i| {
+                self.resolve(i, regions, &by_number, &mut memo, 0)
+                    .unwrap_or_default()
+            })
+            .collect()
     }
 
-    fn resolve(&mut self, i: usize, regions: &[RawRegion], by_number: &HashMap<usize, usize>, memo: &mut Vec<Resolve>, depth: usize) -> Option<Vec<Vec<Term>>> {
+    fn resolve(
+        &mut self,
+        i: usize,
+        regions: &[RawRegion],
+        by_number: &HashMap<usize, usize>,
+        memo: &mut Vec<Resolve>,
+        depth: usize,
+    ) -> Option<Vec<Vec<Term>>> {
         match &memo[i] {
             Resolve::Done(z) => return z.clone(),
             Resolve::Visiting => return None,
@@ -721,12 +927,25 @@ impl<'a> Reader<'a> {
                 if !t.region_ref {
                     let op = if t.negate { Op::Outside } else { Op::Inside };
                     for z in &mut set {
-                        z.push(Term { op, body: t.number - 1 });
+                        z.push(Term {
+                            op,
+                            body: t.number - 1,
+                        });
                     }
                     continue;
                 }
                 let Some(&target) = by_number.get(&t.number) else {
-                    self.error(t.line, t.col, 5, format!("{}: region {} refers to region {}, which is not defined", at(t.line, t.col, 5), r.number, t.number));
+                    self.error(
+                        t.line,
+                        t.col,
+                        5,
+                        format!(
+                            "{}: region {} refers to region {}, which is not defined",
+                            at(t.line, t.col, 5),
+                            r.number,
+                            t.number
+                        ),
+                    );
                     out = None;
                     continue;
                 };
@@ -736,7 +955,15 @@ impl<'a> Reader<'a> {
                     continue;
                 }
                 if depth >= MAX_REF_DEPTH {
-                    self.error(t.line, t.col, 5, format!("{}: region references nest more than {MAX_REF_DEPTH} deep", at(t.line, t.col, 5)));
+                    self.error(
+                        t.line,
+                        t.col,
+                        5,
+                        format!(
+                            "{}: region references nest more than {MAX_REF_DEPTH} deep",
+                            at(t.line, t.col, 5)
+                        ),
+                    );
                     out = None;
                     continue;
                 }
@@ -744,11 +971,19 @@ impl<'a> Reader<'a> {
                     out = None;
                     continue;
                 };
-                let expanded = if t.negate { subtract(&set, &tz) } else { intersect(&set, &tz) };
+                let expanded = if t.negate {
+                    subtract(&set, &tz)
+                } else {
+                    intersect(&set, &tz)
+                };
                 match expanded {
                     Some(s) => set = s,
                     None => {
-                        let verb = if t.negate { "subtracting" } else { "intersecting with" };
+                        let verb = if t.negate {
+                            "subtracting"
+                        } else {
+                            "intersecting with"
+                        };
                         self.error(
                             t.line,
                             t.col,
@@ -764,7 +999,15 @@ impl<'a> Reader<'a> {
             if let Some(o) = &mut out {
                 o.extend(set);
                 if o.len() > MAX_ZONES {
-                    self.error(r.line, 1, 5, format!("line {}: region {} expands to more than {MAX_ZONES} zones", r.line, r.number));
+                    self.error(
+                        r.line,
+                        1,
+                        5,
+                        format!(
+                            "line {}: region {} expands to more than {MAX_ZONES} zones",
+                            r.line, r.number
+                        ),
+                    );
                     out = None;
                 }
             }
@@ -811,7 +1054,14 @@ fn subtract(set: &[Vec<Term>], region: &[Vec<Term>]) -> Option<Vec<Vec<Term>>> {
                 return None;
             }
             for t in rz {
-                let neg = Term { op: if t.op == Op::Inside { Op::Outside } else { Op::Inside }, body: t.body };
+                let neg = Term {
+                    op: if t.op == Op::Inside {
+                        Op::Outside
+                    } else {
+                        Op::Inside
+                    },
+                    body: t.body,
+                };
                 let mut nz = z.clone();
                 nz.push(neg);
                 next.push(nz);
@@ -874,7 +1124,11 @@ fn param_label(kind: BodyKind, i: usize) -> String {
         let w = p.kind.width();
         if i < start + w {
             let doc = if p.doc.is_empty() { "vertex" } else { p.doc };
-            return if w == 1 { format!("{doc} ({})", p.name) } else { format!("{doc} ({}.{})", p.name, ["x", "y", "z"][i - start]) };
+            return if w == 1 {
+                format!("{doc} ({})", p.name)
+            } else {
+                format!("{doc} ({}.{})", p.name, ["x", "y", "z"][i - start])
+            };
         }
         start += w;
     }

@@ -91,10 +91,22 @@ pub fn ell_foci_to_centre(p: &[f64]) -> [f64; 7] {
     let d = [p[3] - p[0], p[4] - p[1], p[5] - p[2]];
     let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     let half = p[6] / 2.0;
-    let a = if m == 0.0 { [half, 0.0, 0.0] } else { d.map(|c| c * p[6] / (2.0 * m)) };
+    let a = if m == 0.0 {
+        [half, 0.0, 0.0]
+    } else {
+        d.map(|c| c * p[6] / (2.0 * m))
+    };
     let a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
     let r = (a2 - (m / 2.0) * (m / 2.0)).sqrt();
-    [(p[0] + p[3]) / 2.0, (p[1] + p[4]) / 2.0, (p[2] + p[5]) / 2.0, a[0], a[1], a[2], r]
+    [
+        (p[0] + p[3]) / 2.0,
+        (p[1] + p[4]) / 2.0,
+        (p[2] + p[5]) / 2.0,
+        a[0],
+        a[1],
+        a[2],
+        r,
+    ]
 }
 
 /// A value in at most 10 columns, with a decimal point (so Fortran readers
@@ -137,14 +149,23 @@ fn card_name(kind: BodyKind) -> Option<&'static str> {
     use BodyKind::*;
     Some(match kind {
         Ell | Ell1 => "ELL1",
-        Sph | Rcc | Rec | Trc | Tec | Ellg | Rpp | Box | Raw | Arb4 | Arb5 | Arb6 | Arb7 | Arb8 | Tgc | Tor | Haf | Ars => kind.name(),
+        Sph | Rcc | Rec | Trc | Tec | Ellg | Rpp | Box | Raw | Arb4 | Arb5 | Arb6 | Arb7 | Arb8
+        | Tgc | Tor | Haf | Ars => kind.name(),
         _ => return None,
     })
 }
 
 /// Append value cards: six 10-column fields per card; the first card is
 /// `first` (number and type already written), later ones continue it.
-fn value_cards(out: &mut String, first: String, number: usize, vals: &[f64], comment: &str, notes: &mut Vec<String>, what: &str) {
+fn value_cards(
+    out: &mut String,
+    first: String,
+    number: usize,
+    vals: &[f64],
+    comment: &str,
+    notes: &mut Vec<String>,
+    what: &str,
+) {
     let mut line = first;
     for (i, chunk) in vals.chunks(6).enumerate() {
         if i > 0 {
@@ -153,12 +174,20 @@ fn value_cards(out: &mut String, first: String, number: usize, vals: &[f64], com
         for (j, &v) in chunk.iter().enumerate() {
             let (s, exact) = fmt_value(v);
             if !exact {
-                notes.push(format!("{what}: value {} ({v}) written as {s} to fit 10 columns", i * 6 + j + 1));
+                notes.push(format!(
+                    "{what}: value {} ({v}) written as {s} to fit 10 columns",
+                    i * 6 + j + 1
+                ));
             }
             let _ = write!(line, "{s:>10}");
         }
         if i == 0 && !comment.is_empty() {
-            let _ = write!(line, "{:width$}{comment}", "", width = 70usize.saturating_sub(line.len()));
+            let _ = write!(
+                line,
+                "{:width$}{comment}",
+                "",
+                width = 70usize.saturating_sub(line.len())
+            );
         }
         out.push_str(line.trim_end());
         out.push('\n');
@@ -166,7 +195,11 @@ fn value_cards(out: &mut String, first: String, number: usize, vals: &[f64], com
 }
 
 fn one_line(s: &str) -> String {
-    s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect::<String>().trim().to_string()
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect::<String>()
+        .trim()
+        .to_string()
 }
 
 /// Write a scene's geometry and region metadata as a v5 deck.
@@ -186,59 +219,121 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
         return Err(WriteError::TooManyRegions(g.regions.len()));
     }
     let mut out = String::new();
-    let _ = writeln!(out, "{:<2} {}", scene.units.abbrev(), one_line(&scene.title));
+    let _ = writeln!(
+        out,
+        "{:<2} {}",
+        scene.units.abbrev(),
+        one_line(&scene.title)
+    );
     let _ = writeln!(out, "{:>5}{:>5}", g.bodies.len(), g.regions.len());
 
     for (i, b) in g.bodies.iter().enumerate() {
         let number = i + 1;
         let Some(ty) = card_name(b.kind) else {
-            return Err(WriteError::Unsupported { name: b.name.clone(), kind: b.kind });
+            return Err(WriteError::Unsupported {
+                name: b.name.clone(),
+                kind: b.kind,
+            });
         };
-        let comment = if b.name == number.to_string() { String::new() } else { one_line(&b.name) };
+        let comment = if b.name == number.to_string() {
+            String::new()
+        } else {
+            one_line(&b.name)
+        };
         if !comment.is_empty() {
             notes.push(format!("body {} is written as number {number}", b.name));
         }
         if b.params.iter().any(|v| !v.is_finite()) {
-            return Err(WriteError::NotFinite { name: b.name.clone(), kind: b.kind });
+            return Err(WriteError::NotFinite {
+                name: b.name.clone(),
+                kind: b.kind,
+            });
         }
         let what = format!("body {number} ({ty})");
         if b.kind == BodyKind::Ars {
-            let bad = || WriteError::WrongCount { name: b.name.clone(), kind: b.kind, found: b.params.len(), expected: 2 };
+            let bad = || WriteError::WrongCount {
+                name: b.name.clone(),
+                kind: b.kind,
+                found: b.params.len(),
+                expected: 2,
+            };
             let (c, p) = match b.params.get(0..2) {
-                Some(&[c, p]) if c >= 1.0 && p >= 1.0 && c.fract() == 0.0 && p.fract() == 0.0 && c * p <= 1e9 => (c as usize, p as usize),
+                Some(&[c, p])
+                    if c >= 1.0
+                        && p >= 1.0
+                        && c.fract() == 0.0
+                        && p.fract() == 0.0
+                        && c * p <= 1e9 =>
+                {
+                    (c as usize, p as usize)
+                }
                 _ => return Err(bad()),
             };
             if b.params.len() != 2 + 3 * c * p {
-                return Err(WriteError::WrongCount { name: b.name.clone(), kind: b.kind, found: b.params.len(), expected: 2 + 3 * c * p });
+                return Err(WriteError::WrongCount {
+                    name: b.name.clone(),
+                    kind: b.kind,
+                    found: b.params.len(),
+                    expected: 2 + 3 * c * p,
+                });
             }
             let mut line = format!("{number:>5}{ty:<5}{c:>10}{p:>10}");
             if !comment.is_empty() {
-                let _ = write!(line, "{:width$}{comment}", "", width = 70 - line.len().min(70));
+                let _ = write!(
+                    line,
+                    "{:width$}{comment}",
+                    "",
+                    width = 70 - line.len().min(70)
+                );
             }
             out.push_str(line.trim_end());
             out.push('\n');
             for curve in b.params[2..].chunks(3 * p) {
                 for chunk in curve.chunks(6) {
-                    value_cards(&mut out, format!("{number:>5}     "), number, chunk, "", &mut notes, &what);
+                    value_cards(
+                        &mut out,
+                        format!("{number:>5}     "),
+                        number,
+                        chunk,
+                        "",
+                        &mut notes,
+                        &what,
+                    );
                 }
             }
             continue;
         }
         let expected = b.kind.info().value_count();
         if b.params.len() != expected {
-            return Err(WriteError::WrongCount { name: b.name.clone(), kind: b.kind, found: b.params.len(), expected });
+            return Err(WriteError::WrongCount {
+                name: b.name.clone(),
+                kind: b.kind,
+                found: b.params.len(),
+                expected,
+            });
         }
         let vals: Vec<f64> = if b.kind == BodyKind::Ell {
             let c = ell_foci_to_centre(&b.params);
             if c.iter().any(|v| !v.is_finite()) {
-                return Err(WriteError::NotFinite { name: b.name.clone(), kind: b.kind });
+                return Err(WriteError::NotFinite {
+                    name: b.name.clone(),
+                    kind: b.kind,
+                });
             }
             notes.push(format!("body {number}: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"));
             c.to_vec()
         } else {
             b.params.clone()
         };
-        value_cards(&mut out, format!("{number:>5}{ty:<5}"), number, &vals, &comment, &mut notes, &what);
+        value_cards(
+            &mut out,
+            format!("{number:>5}{ty:<5}"),
+            number,
+            &vals,
+            &comment,
+            &mut notes,
+            &what,
+        );
     }
 
     let default_props = RegionProps::default();
@@ -247,18 +342,29 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
         let mut fields = Vec::new();
         for (zi, z) in r.zones.iter().enumerate() {
             if z.terms.is_empty() {
-                return Err(WriteError::EmptyZone { region: r.name.clone(), zone: zi + 1 });
+                return Err(WriteError::EmptyZone {
+                    region: r.name.clone(),
+                    zone: zi + 1,
+                });
             }
             for (ti, t) in z.terms.iter().enumerate() {
                 if t.body >= g.bodies.len() {
-                    return Err(WriteError::BadBodyIndex { region: r.name.clone(), body: t.body, count: g.bodies.len() });
+                    return Err(WriteError::BadBodyIndex {
+                        region: r.name.clone(),
+                        body: t.body,
+                        count: g.bodies.len(),
+                    });
                 }
                 let n = (t.body + 1) as i64 * if t.op == Op::Outside { -1 } else { 1 };
                 let op = if zi > 0 && ti == 0 { "OR" } else { "  " };
                 fields.push(format!("{op}{n:>5}"));
             }
         }
-        let comment = if r.name == number.to_string() { String::new() } else { one_line(&r.name) };
+        let comment = if r.name == number.to_string() {
+            String::new()
+        } else {
+            one_line(&r.name)
+        };
         if !comment.is_empty() {
             notes.push(format!("region {} is written as number {number}", r.name));
         }
@@ -267,12 +373,21 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
             chunks.push(&[]);
         }
         for (ci, chunk) in chunks.iter().enumerate() {
-            let mut line = if ci == 0 { format!("{number:>5} ") } else { "      ".to_string() };
+            let mut line = if ci == 0 {
+                format!("{number:>5} ")
+            } else {
+                "      ".to_string()
+            };
             for f in *chunk {
                 line.push_str(f);
             }
             if ci == 0 && !comment.is_empty() {
-                let _ = write!(line, "{:width$}{comment}", "", width = 69usize.saturating_sub(line.len()));
+                let _ = write!(
+                    line,
+                    "{:width$}{comment}",
+                    "",
+                    width = 69usize.saturating_sub(line.len())
+                );
             }
             out.push_str(line.trim_end());
             out.push('\n');
@@ -283,13 +398,25 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
     for (i, r) in g.regions.iter().enumerate() {
         let p = scene.regions.get(i).unwrap_or(&default_props);
         if p.transparent && p.air == 0 {
-            notes.push(format!("region {}: transparency without an air code is not kept", r.name));
+            notes.push(format!(
+                "region {}: transparency without an air code is not kept",
+                r.name
+            ));
         }
         let mut line = format!("{:>5}", i + 1);
-        for (what, v) in [("ident code", p.ident), ("air code", p.air), ("material", p.material), ("line of sight", p.los)] {
+        for (what, v) in [
+            ("ident code", p.ident),
+            ("air code", p.air),
+            ("material", p.material),
+            ("line of sight", p.los),
+        ] {
             let s = format!("{v:>5}");
             if s.len() > 5 {
-                return Err(WriteError::FieldTooWide { region: r.name.clone(), what, value: v });
+                return Err(WriteError::FieldTooWide {
+                    region: r.name.clone(),
+                    what,
+                    value: v,
+                });
             }
             line.push_str(&s);
         }
@@ -324,6 +451,9 @@ mod tests {
     #[test]
     fn foci_convert_to_centre_form() {
         // GIFT sample target body 5: F1 (20,0,48), F2 (-20,0,48), L 50.
-        assert_eq!(ell_foci_to_centre(&[20.0, 0.0, 48.0, -20.0, 0.0, 48.0, 50.0]), [0.0, 0.0, 48.0, -25.0, 0.0, 0.0, 15.0]);
+        assert_eq!(
+            ell_foci_to_centre(&[20.0, 0.0, 48.0, -20.0, 0.0, 48.0, 50.0]),
+            [0.0, 0.0, 48.0, -25.0, 0.0, 0.0, 15.0]
+        );
     }
 }

@@ -967,6 +967,25 @@ fn count_mismatches_and_a_missing_end_card_are_warnings() {
     );
 }
 
+#[test]
+fn a_deck_with_thousands_of_errors_reports_the_first_200_and_counts_the_rest() {
+    let bodies: Vec<String> = (1..=1000)
+        .map(|n| v5_body(&n.to_string(), "SPH", &["x", "0.", "0.", "1."]))
+        .collect();
+    let deck = v5_deck(1000, 1, &bodies, &[v5_region("1", &[("", 1)])]);
+    let msgs = errors(&deck);
+    assert_eq!(msgs.len(), 201);
+    assert_eq!(
+        msgs[0],
+        "line 3, columns 11–20: expected a number for SPH centre (V.x) (body 1), found \"x\""
+    );
+    assert_eq!(
+        msgs[199],
+        "line 202, columns 11–20: expected a number for SPH centre (V.x) (body 200), found \"x\""
+    );
+    assert_eq!(msgs[200], "800 more errors and warnings are not shown");
+}
+
 // ---------------------------------------------------------------- robustness
 
 #[derive(Clone, Debug)]

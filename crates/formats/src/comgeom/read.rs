@@ -11,6 +11,10 @@ use sv_scene::{RegionProps, Scene, Units};
 pub const MAX_ZONES: usize = 4096;
 /// Most terms in one zone after expanding region references.
 const MAX_TERMS: usize = 4096;
+/// Most terms that expanding all region references of a deck may produce.
+const MAX_EXPANSION: usize = 1 << 21;
+/// Most diagnostics kept for one deck (the rest are counted).
+const MAX_DIAGNOSTICS: usize = 200;
 /// Deepest chain of regions referring to regions.
 const MAX_REF_DEPTH: usize = 64;
 
@@ -144,6 +148,14 @@ struct Reader<'a> {
     /// Bodies in deck order; `None` for a body whose cards had errors.
     bodies: Vec<Option<Body>>,
     numbering_reported: bool,
+    /// Errors and warnings not kept beyond [`MAX_DIAGNOSTICS`].
+    suppressed: usize,
+    /// Where a diagnostic goes once the limit is reached.
+    spare: Option<Diagnostic>,
+    /// Terms that region-reference expansion may still produce.
+    budget: usize,
+    /// `nonblank_from[i]`: non-blank cards from card `i` on.
+    nonblank_from: Vec<usize>,
 }
 
 /// Read a COMGEOM deck; see the [module documentation](super).
@@ -161,7 +173,15 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         warnings: Vec::new(),
         bodies: Vec::new(),
         numbering_reported: false,
+        suppressed: 0,
+        spare: None,
+        budget: MAX_EXPANSION,
+        nonblank_from: Vec::new(),
     };
+    r.nonblank_from = vec![0; r.cards.len() + 1];
+    for i in (0..r.cards.len()).rev() {
+        r.nonblank_from[i] = r.nonblank_from[i + 1] + usize::from(!r.cards[i].is_blank());
+    }
     let scene = r.deck();
     match scene {
         Some(scene) if r.errors.is_empty() => Ok(Loaded {
@@ -169,6 +189,16 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
             warnings: r.warnings,
         }),
         _ => {
+            if r.suppressed > 0 {
+                let n = r.suppressed;
+                let d = Diagnostic::error(
+                    src,
+                    src.text.len(),
+                    0,
+                    format!("{n} more errors and warnings are not shown"),
+                );
+                r.errors.push(d);
+            }
             let mut items = r.errors;
             items.append(&mut r.warnings);
             items.sort_by_key(|d| d.offset);
@@ -187,16 +217,42 @@ impl<'a> Reader<'a> {
             .map_or(0, |c| c.text.chars().count());
         let c = col.min(width + 1).max(1);
         let l = len.min((width + 1).saturating_sub(c));
-        Diagnostic::error_at(self.src, line, c, l, msg)
+        match self.cards.get(line.wrapping_sub(1)) {
+            // Cards are slices of the source text: find the span from the
+            // card alone instead of scanning the whole text.
+            Some(card) => {
+                let base = card.text.as_ptr() as usize - self.src.text.as_ptr() as usize;
+                let start = base + card.field(1, c - 1).len();
+                let span = card.field(c, l).len();
+                Diagnostic::error(self.src, start, span, msg)
+            }
+            None => Diagnostic::error(self.src, self.src.text.len(), 0, msg),
+        }
     }
 
+    fn full(&mut self) -> bool {
+        if self.errors.len() + self.warnings.len() >= MAX_DIAGNOSTICS {
+            self.suppressed += 1;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Record an error (its hint can be set on the result).
     fn error(&mut self, line: usize, col: usize, len: usize, msg: String) -> &mut Diagnostic {
+        if self.full() {
+            return self.spare.insert(Diagnostic::error(self.src, 0, 0, msg));
+        }
         let d = self.diag(line, col, len, msg);
         self.errors.push(d);
         self.errors.last_mut().expect("just pushed")
     }
 
     fn warn(&mut self, line: usize, col: usize, len: usize, msg: String) {
+        if self.full() {
+            return;
+        }
         let d = self.diag(line, col, len, msg).warning();
         self.warnings.push(d);
     }
@@ -586,10 +642,7 @@ impl<'a> Reader<'a> {
         let [curves, ppc] = counts;
         let per_curve = (ppc as u128 * 3).div_ceil(6);
         let needed = curves as u128 * per_curve;
-        let remaining = self.cards[self.pos..]
-            .iter()
-            .filter(|c| !c.is_blank())
-            .count();
+        let remaining = self.nonblank_from[self.pos.min(self.cards.len())];
         if needed > remaining as u128 {
             self.error(
                 header.line,
@@ -704,10 +757,8 @@ impl<'a> Reader<'a> {
                     continue;
                 }
                 let Some(n) = parse_int(&digits) else {
-                    self.errors.push(
-                        self.diag(card.line, col + 2, 5, format!("{}: expected a body number in region {rnum}, found \"{}\"", at(card.line, col + 2, 5), raw.trim()))
-                            .with_hint("each region field is a 2-character operator and a signed 5-digit body number"),
-                    );
+                    self.error(card.line, col + 2, 5, format!("{}: expected a body number in region {rnum}, found \"{}\"", at(card.line, col + 2, 5), raw.trim()))
+                        .hint = Some("each region field is a 2-character operator and a signed 5-digit body number".into());
                     continue;
                 };
                 if n == 0 {
@@ -727,26 +778,25 @@ impl<'a> Reader<'a> {
                         (false, false, c0 == '-' || c1 == '-')
                     }
                     _ => {
-                        self.errors.push(
-                            self.diag(
-                                card.line,
-                                col,
-                                2,
-                                format!(
-                                    "{}: expected an operator (blank, OR, G or OG), found \"{op}\"",
-                                    at(card.line, col, 2)
-                                ),
-                            )
-                            .with_hint(
-                                "OR starts a new zone; G marks the number as a region, not a body",
+                        self.error(
+                            card.line,
+                            col,
+                            2,
+                            format!(
+                                "{}: expected an operator (blank, OR, G or OG), found \"{op}\"",
+                                at(card.line, col, 2)
                             ),
+                        )
+                        .hint = Some(
+                            "OR starts a new zone; G marks the number as a region, not a body"
+                                .into(),
                         );
                         continue;
                     }
                 };
                 let number = n.unsigned_abs() as usize;
                 if !region_ref && number > nbodies {
-                    self.errors.push(self.diag(
+                    self.error(
                         card.line,
                         col + 2,
                         5,
@@ -754,7 +804,7 @@ impl<'a> Reader<'a> {
                             "{}: region {rnum} refers to body {number}, which is not defined (the deck has {nbodies} bodies)",
                             at(card.line, col + 2, 5)
                         ),
-                    ));
+                    );
                     continue;
                 }
                 let region = regions.last_mut().expect("a region exists");
@@ -905,6 +955,21 @@ impl<'a> Reader<'a> {
             .collect()
     }
 
+    /// Take `n` terms from the expansion budget; false when it is spent.
+    fn charge(&mut self, n: usize) -> bool {
+        match self.budget.checked_sub(n) {
+            Some(b) => {
+                self.budget = b;
+                true
+            }
+            None => {
+                self.budget = 0;
+                false
+            }
+        }
+    }
+
+    /// The zones of region `i` with its region references expanded.
     fn resolve(
         &mut self,
         i: usize,
@@ -914,7 +979,11 @@ impl<'a> Reader<'a> {
         depth: usize,
     ) -> Option<Vec<Vec<Term>>> {
         match &memo[i] {
-            Resolve::Done(z) => return z.clone(),
+            Resolve::Done(z) => {
+                let z = z.clone();
+                let size = z.as_ref().map_or(0, |z| z.iter().map(Vec::len).sum());
+                return if self.charge(size) { z } else { None };
+            }
             Resolve::Visiting => return None,
             Resolve::Todo => {}
         }
@@ -924,7 +993,15 @@ impl<'a> Reader<'a> {
         for raw_zone in &r.zones {
             let mut set: Vec<Vec<Term>> = vec![Vec::new()];
             for t in raw_zone {
+                let fail = |me: &mut Self, msg: String| {
+                    me.error(t.line, t.col, 5, format!("{}: {msg}", at(t.line, t.col, 5)));
+                };
                 if !t.region_ref {
+                    if !self.charge(set.len()) {
+                        fail(self, format!("region {}: region references expand to more than {MAX_EXPANSION} terms in all", r.number));
+                        out = None;
+                        break;
+                    }
                     let op = if t.negate { Op::Outside } else { Op::Inside };
                     for z in &mut set {
                         z.push(Term {
@@ -935,34 +1012,28 @@ impl<'a> Reader<'a> {
                     continue;
                 }
                 let Some(&target) = by_number.get(&t.number) else {
-                    self.error(
-                        t.line,
-                        t.col,
-                        5,
+                    fail(
+                        self,
                         format!(
-                            "{}: region {} refers to region {}, which is not defined",
-                            at(t.line, t.col, 5),
-                            r.number,
-                            t.number
+                            "region {} refers to region {}, which is not defined",
+                            r.number, t.number
                         ),
                     );
                     out = None;
                     continue;
                 };
                 if matches!(memo[target], Resolve::Visiting) {
-                    self.error(t.line, t.col, 5, format!("{}: region {} refers to region {}, which leads back to region {} (a cycle)", at(t.line, t.col, 5), r.number, t.number, r.number));
+                    fail(
+                        self,
+                        format!("region {} refers to region {}, which leads back to region {} (a cycle)", r.number, t.number, r.number),
+                    );
                     out = None;
                     continue;
                 }
                 if depth >= MAX_REF_DEPTH {
-                    self.error(
-                        t.line,
-                        t.col,
-                        5,
-                        format!(
-                            "{}: region references nest more than {MAX_REF_DEPTH} deep",
-                            at(t.line, t.col, 5)
-                        ),
+                    fail(
+                        self,
+                        format!("region references nest more than {MAX_REF_DEPTH} deep"),
                     );
                     out = None;
                     continue;
@@ -976,21 +1047,28 @@ impl<'a> Reader<'a> {
                 } else {
                     intersect(&set, &tz)
                 };
+                let size = expanded
+                    .as_ref()
+                    .map_or(0, |e| e.iter().map(Vec::len).sum());
                 match expanded {
-                    Some(s) => set = s,
+                    Some(e) if self.charge(size) => set = e,
+                    Some(_) => {
+                        fail(self, format!("region {}: region references expand to more than {MAX_EXPANSION} terms in all", r.number));
+                        out = None;
+                        break;
+                    }
                     None => {
                         let verb = if t.negate {
                             "subtracting"
                         } else {
                             "intersecting with"
                         };
-                        self.error(
-                            t.line,
-                            t.col,
-                            5,
-                            format!("{}: region {}: {verb} region {} expands to more than {MAX_ZONES} zones", at(t.line, t.col, 5), r.number, t.number),
-                        )
-                        .hint = Some("write the region with body references instead".into());
+                        fail(self, format!("region {}: {verb} region {} expands to more than {MAX_ZONES} zones", r.number, t.number))
+                            ;
+                        if let Some(last) = self.errors.last_mut() {
+                            last.hint =
+                                Some("write the region with body references instead".into());
+                        }
                         out = None;
                         set = vec![Vec::new()];
                     }
@@ -1054,16 +1132,13 @@ fn subtract(set: &[Vec<Term>], region: &[Vec<Term>]) -> Option<Vec<Vec<Term>>> {
                 return None;
             }
             for t in rz {
-                let neg = Term {
-                    op: if t.op == Op::Inside {
-                        Op::Outside
-                    } else {
-                        Op::Inside
-                    },
-                    body: t.body,
+                let op = if t.op == Op::Inside {
+                    Op::Outside
+                } else {
+                    Op::Inside
                 };
                 let mut nz = z.clone();
-                nz.push(neg);
+                nz.push(Term { op, body: t.body });
                 next.push(nz);
             }
         }
@@ -1072,19 +1147,19 @@ fn subtract(set: &[Vec<Term>], region: &[Vec<Term>]) -> Option<Vec<Vec<Term>>> {
     Some(cur)
 }
 
-/// Drop repeated terms and zones that hold a body both inside and outside
+/// Drop repeated terms, and zones that hold a body both inside and outside
 /// (they are empty).
 fn prune(zones: Vec<Vec<Term>>) -> Vec<Vec<Term>> {
     zones
         .into_iter()
         .filter_map(|z| {
+            let mut seen: HashMap<usize, Op> = HashMap::with_capacity(z.len());
             let mut out: Vec<Term> = Vec::with_capacity(z.len());
             for t in z {
-                if out.iter().any(|o| o.body == t.body && o.op != t.op) {
-                    return None;
-                }
-                if !out.contains(&t) {
-                    out.push(t);
+                match seen.insert(t.body, t.op) {
+                    Some(op) if op != t.op => return None,
+                    Some(_) => {}
+                    None => out.push(t),
                 }
             }
             Some(out)
@@ -1092,13 +1167,11 @@ fn prune(zones: Vec<Vec<Term>>) -> Vec<Vec<Term>> {
         .collect()
 }
 
+/// Prune, then drop repeated zones.
 fn simplify(zones: &mut Vec<Vec<Term>>) {
+    let mut seen = std::collections::HashSet::new();
     let z = prune(std::mem::take(zones));
-    for zone in z {
-        if !zones.contains(&zone) {
-            zones.push(zone);
-        }
-    }
+    zones.extend(z.into_iter().filter(|zone| seen.insert(zone.clone())));
 }
 
 /// The type name `ty` was probably meant to be: a swap of two neighbouring

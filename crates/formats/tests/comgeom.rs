@@ -740,6 +740,25 @@ fn missing_and_cyclic_region_references_are_errors() {
     );
 }
 
+#[test]
+fn a_first_region_card_may_start_with_an_operator() {
+    // Columns 6-10 of "    1 OR    1" hold letters, but it is a region card.
+    let bodies = [sph(1), sph(2)];
+    let regions = [
+        v5_region("1", &[("OR", 1), ("", -2)]),
+        v5_region("2", &[(" G", 1), ("", 1)]),
+    ];
+    let l = read_text("op.cg", &v5_deck(2, 2, &bodies, &regions)).unwrap();
+    assert_eq!(l.scene.geometry.regions[0].zones[0].terms, terms(&[1, -2]));
+    // Region 1 intersected with body 1 again: the repeated term is dropped.
+    assert_eq!(l.scene.geometry.regions[1].zones[0].terms, terms(&[1, -2]));
+    // Without the control card's count it is still not read as a body.
+    let deck = v5_deck(2, 2, &bodies, &regions).replacen("    2    2", "    0    0", 1);
+    let l = read_text("op.cg", &deck).unwrap();
+    assert_eq!(l.scene.geometry.bodies.len(), 2);
+    assert_eq!(l.scene.geometry.regions.len(), 2);
+}
+
 // ---------------------------------------------------------------- errors
 
 #[test]

@@ -438,7 +438,11 @@ impl<'a> Reader<'a> {
             } else {
                 let starts_alpha = ty.chars().next().is_some_and(|c| c.is_alphabetic());
                 let more_declared = declared.is_some_and(|d| (self.bodies.len() as i64) < d);
-                let is_body = !ty.is_empty() && (starts_alpha || more_declared);
+                // A first region card that starts with an operator (`OR`,
+                // `G`) has letters in the type columns too.
+                let region_like =
+                    kind_for(ty, self.version).is_none() && starts_with_operator(&card);
+                let is_body = !ty.is_empty() && (more_declared || starts_alpha && !region_like);
                 if !is_body {
                     return;
                 }
@@ -1172,6 +1176,16 @@ fn simplify(zones: &mut Vec<Vec<Term>>) {
     let mut seen = std::collections::HashSet::new();
     let z = prune(std::mem::take(zones));
     zones.extend(z.into_iter().filter(|zone| seen.insert(zone.clone())));
+}
+
+/// True when a card reads as a region card whose first field has an `OR` or
+/// `G` operator: a positive region number and an operator in columns 7–8
+/// followed by a non-zero number.
+fn starts_with_operator(card: &Card) -> bool {
+    let op = card.field(7, 2).to_ascii_uppercase();
+    matches!(op.as_str(), "OR" | "OG" | " G" | "+G" | "-G")
+        && parse_int(card.field(1, 5)).is_some_and(|n| n > 0)
+        && parse_int(&card.field(9, 5).replace(' ', "")).is_some_and(|n| n != 0)
 }
 
 /// The type name `ty` was probably meant to be: a swap of two neighbouring

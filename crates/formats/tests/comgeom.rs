@@ -132,7 +132,7 @@ fn real_decks_load_without_errors_and_only_the_gift_deck_warns() {
     let msgs: Vec<_> = l.warnings.iter().map(|w| w.message.as_str()).collect();
     assert_eq!(
         msgs,
-        ["line 85, columns 75–80: 20 v4 ident cards hold text, not material and line-of-sight numbers, in columns 75–80; material 0 and line of sight 100 are used"]
+        ["line 85, columns 75–80: 20 v4 ident cards hold text, not material and line-of-sight numbers, in columns 75–80; they are kept in the description, and material 0 and line of sight 100 are used"]
     );
     assert!(l.warnings.iter().all(|w| w.severity == Severity::Warning));
 }
@@ -431,9 +431,10 @@ fn ident_tables_fill_region_metadata_and_air_is_transparent() {
         (r[0].ident, r[0].air, r[0].material, r[0].los),
         (40, 0, 0, 100)
     );
-    assert_eq!(r[0].description, "STEERING WHEEL     1-2");
+    assert_eq!(r[0].description, "STEERING WHEEL     1-2              TOR");
+    assert_eq!(r[5].description, "BODY-CENTER        6-20-19-7-8-9-10 RPP");
     assert_eq!(r[11].ident, 111);
-    assert_eq!(r[11].description, "DUMMY REGION       0");
+    assert_eq!(r[11].description, "DUMMY REGION       0                RAW");
     for i in [18, 19] {
         assert_eq!((r[i].ident, r[i].air), (0, 2), "region {}", i + 1);
         assert!(r[i].transparent);

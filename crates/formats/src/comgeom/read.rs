@@ -924,8 +924,11 @@ impl<'a> Reader<'a> {
             p.air = vals[1].unwrap_or(0);
             p.material = vals[2].unwrap_or(0);
             p.los = vals[3].unwrap_or(100);
+            // When columns 75-80 are text they are part of the comment.
             let desc = if v5 {
                 card.rest(26)
+            } else if has_text {
+                card.rest(31)
             } else {
                 card.field(31, 44)
             };
@@ -939,7 +942,7 @@ impl<'a> Reader<'a> {
                 line,
                 75,
                 6,
-                format!("{}: {n} v4 ident cards hold text, not material and line-of-sight numbers, in columns 75–80; material 0 and line of sight 100 are used", at(line, 75, 6)),
+                format!("{}: {n} v4 ident cards hold text, not material and line-of-sight numbers, in columns 75–80; they are kept in the description, and material 0 and line of sight 100 are used", at(line, 75, 6)),
             );
         }
     }

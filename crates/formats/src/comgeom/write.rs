@@ -113,36 +113,45 @@ pub fn ell_foci_to_centre(p: &[f64]) -> [f64; 7] {
 /// with implied decimals read it right too). Returns the text and whether it
 /// reads back as exactly `v`.
 fn fmt_value(v: f64) -> (String, bool) {
-    let with_point = |s: String| -> String {
+    let with_point = |s: &str| -> String {
         if s.contains('.') {
-            return s;
+            return s.to_string();
         }
         match s.find(['e', 'E']) {
             Some(i) => format!("{}.{}", &s[..i], &s[i..]),
             None => format!("{s}."),
         }
     };
-    // Shortest representations that read back exactly.
-    let mut best: Option<String> = None;
-    for s in [with_point(format!("{v}")), with_point(format!("{v:e}"))] {
-        if s.len() <= 10 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
-            best = Some(s);
-        }
+    let shortest = |forms: [String; 2]| {
+        forms
+            .into_iter()
+            .filter(|s| s.len() <= 10)
+            .min_by_key(String::len)
+    };
+    // Shortest representations that read back exactly, with a point when
+    // it fits (a 10-digit integer only fits without one).
+    let (plain, exp) = (format!("{v}"), format!("{v:e}"));
+    if let Some(s) =
+        shortest([with_point(&plain), with_point(&exp)]).or_else(|| shortest([plain, exp.clone()]))
+    {
+        return (s, true);
     }
-    if let Some(b) = best {
-        return (b, true);
-    }
-    // Too long: the most precise rounding that fits.
+    // Too long: the most precise rounding that fits and stays finite.
     for prec in (0..=16).rev() {
         for s in [format!("{v:.prec$}"), format!("{v:.prec$e}")] {
-            let s = with_point(s);
-            if s.len() <= 10 {
-                let exact = s.parse::<f64>().ok() == Some(v);
-                return (s, exact);
+            let s = with_point(&s);
+            match s.parse::<f64>() {
+                Ok(r) if s.len() <= 10 && r.is_finite() => return (s, r == v),
+                _ => {}
             }
         }
     }
-    (with_point(format!("{v:.0e}")), false)
+    // Rounding overflows (near f64::MAX): cut the mantissa instead.
+    let (m, x) = exp.split_once('e').unwrap_or((&exp, "0"));
+    let keep = 10usize.saturating_sub(x.len() + 1).min(m.len());
+    let s = with_point(&format!("{}e{x}", &m[..keep]));
+    let exact = s.parse::<f64>().ok() == Some(v);
+    (s, exact)
 }
 
 fn card_name(kind: BodyKind) -> Option<&'static str> {
@@ -446,6 +455,18 @@ mod tests {
         assert_eq!(s.parse::<f64>().unwrap(), 0.30000000);
         let (s, exact) = fmt_value(-123456.789012345);
         assert!(!exact && s.len() <= 10, "{s}");
+        assert_eq!(fmt_value(1234567890.0), ("1234567890".into(), true));
+        let (s, exact) = fmt_value(f64::MAX);
+        assert!(
+            !exact && s.len() <= 10 && s.parse::<f64>().unwrap().is_finite(),
+            "{s}"
+        );
+        let (s, exact) = fmt_value(-f64::MAX);
+        assert!(
+            !exact && s.len() <= 10 && s.parse::<f64>().unwrap().is_finite(),
+            "{s}"
+        );
+        assert_eq!(fmt_value(5e-324), ("5.e-324".into(), true));
     }
 
     #[test]

@@ -778,7 +778,7 @@ fn a_malformed_number_names_line_columns_field_and_text() {
     let e = &d.items[0];
     assert_eq!(
         e.message,
-        "line 4, columns 11–20: expected a number for RCC radius (R) (body 1), found \"12.7O\""
+        "line 4, columns 11–20: expected a number for RCC radius (R), found \"12.7O\""
     );
     assert_eq!(
         e.hint.as_deref(),
@@ -786,7 +786,7 @@ fn a_malformed_number_names_line_columns_field_and_text() {
     );
     assert_eq!(
         e.render_plain(),
-        "error: line 4, columns 11–20: expected a number for RCC radius (R) (body 1), found \"12.7O\"\n --> bad.cg:4:11\n  |\n4 |                12.7O\n  |           ^^^^^^^^^^\n  = hint: numbers are plain decimals such as 12.5, -3., .75 or 1.5E-3\n"
+        "error: line 4, columns 11–20: expected a number for RCC radius (R), found \"12.7O\"\n --> bad.cg:4:11\n  |\n4 |                12.7O\n  |           ^^^^^^^^^^\n  = hint: numbers are plain decimals such as 12.5, -3., .75 or 1.5E-3\n"
     );
     // A vector component is named too.
     let deck = v5_deck(
@@ -798,7 +798,10 @@ fn a_malformed_number_names_line_columns_field_and_text() {
         ],
         &[v5_region("1", &[("", 1)])],
     );
-    assert_eq!(errors(&deck), ["line 3, columns 51–60: expected a number for RCC height vector (H.y) (body 1), found \"1D3\""]);
+    assert_eq!(
+        errors(&deck),
+        ["line 3, columns 51–60: expected a number for RCC height vector (H.y), found \"1D3\""]
+    );
 }
 
 #[test]
@@ -900,8 +903,8 @@ fn an_ars_claiming_more_points_than_the_deck_holds_is_refused_without_allocating
     assert_eq!(
         errors(&deck),
         [
-            "line 3, columns 11–20: expected the ARS curve count (a positive integer) (body 1), found \"0\"",
-            "line 3, columns 21–30: expected the ARS number of points per curve (a positive integer) (body 1), found \"x\""
+            "line 3, columns 11–20: expected the ARS curve count (a positive integer), found \"0\"",
+            "line 3, columns 21–30: expected the ARS number of points per curve (a positive integer), found \"x\""
         ]
     );
 }
@@ -927,9 +930,9 @@ fn every_error_of_a_deck_is_reported_at_once_in_file_order() {
     assert_eq!(
         errors(&deck),
         [
-            "line 3, columns 21–30: expected a number for SPH centre (V.y) (body 1), found \"x\"",
+            "line 3, columns 21–30: expected a number for SPH centre (V.y), found \"x\"",
             "line 4, columns 6–10: unknown body type \"SPG\" (body 2)",
-            "line 5, columns 61–70: expected a number for RPP z max (ZMAX) (body 3), found \"?\"",
+            "line 5, columns 61–70: expected a number for RPP z max (ZMAX), found \"?\"",
             "line 8, columns 9–13: region 2 refers to body 9, which is not defined (the deck has 4 bodies)",
             "line 9, columns 7–8: expected an operator (blank, OR, G or OG), found \"XX\"",
             "line 10, columns 1–5: region 2 is defined twice (first on line 8)",
@@ -997,11 +1000,11 @@ fn a_deck_with_thousands_of_errors_reports_the_first_200_and_counts_the_rest() {
     assert_eq!(msgs.len(), 201);
     assert_eq!(
         msgs[0],
-        "line 3, columns 11–20: expected a number for SPH centre (V.x) (body 1), found \"x\""
+        "line 3, columns 11–20: expected a number for SPH centre (V.x), found \"x\""
     );
     assert_eq!(
         msgs[199],
-        "line 202, columns 11–20: expected a number for SPH centre (V.x) (body 200), found \"x\""
+        "line 202, columns 11–20: expected a number for SPH centre (V.x), found \"x\""
     );
     assert_eq!(msgs[200], "800 more errors and warnings are not shown");
 }

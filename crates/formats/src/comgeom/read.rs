@@ -516,14 +516,12 @@ impl<'a> Reader<'a> {
         } else {
             let n = kind.info().value_count();
             let mut vals = Vec::with_capacity(n);
-            let mut ok = self.values(header, number, kind, n, &mut vals, &|i| {
-                param_label(kind, i)
-            });
+            let mut ok = self.values(header, kind, n, &mut vals, &|i| param_label(kind, i));
             let mut card = header;
             let total = n.div_ceil(6);
             for k in 2..=total {
                 card = self.continuation(card, number, kind, k, total)?;
-                ok &= self.values(card, number, kind, n, &mut vals, &|i| param_label(kind, i));
+                ok &= self.values(card, kind, n, &mut vals, &|i| param_label(kind, i));
             }
             if !ok {
                 return None;
@@ -537,7 +535,6 @@ impl<'a> Reader<'a> {
     fn values(
         &mut self,
         card: Card<'a>,
-        number: usize,
         kind: BodyKind,
         n: usize,
         vals: &mut Vec<f64>,
@@ -559,7 +556,7 @@ impl<'a> Reader<'a> {
                         col,
                         10,
                         format!(
-                            "{}: expected a number for {} {what} (body {number}), found \"{}\"",
+                            "{}: expected a number for {} {what}, found \"{}\"",
                             at(card.line, col, 10),
                             kind.name(),
                             text.trim()
@@ -633,7 +630,11 @@ impl<'a> Reader<'a> {
                         header.line,
                         col,
                         10,
-                        format!("{}: expected the ARS {what} (a positive integer) (body {number}), found \"{}\"", at(header.line, col, 10), text.trim()),
+                        format!(
+                            "{}: expected the ARS {what} (a positive integer), found \"{}\"",
+                            at(header.line, col, 10),
+                            text.trim()
+                        ),
                     );
                     ok = false;
                 }
@@ -671,7 +672,7 @@ impl<'a> Reader<'a> {
                 let idx = 2 + c * per_curve + k;
                 card =
                     self.continuation(card, number, BodyKind::Ars, idx, 1 + curves * per_curve)?;
-                ok &= self.values(card, number, BodyKind::Ars, ppc * 3, &mut curve, &|i| {
+                ok &= self.values(card, BodyKind::Ars, ppc * 3, &mut curve, &|i| {
                     format!(
                         "curve {} point {} ({})",
                         c + 1,

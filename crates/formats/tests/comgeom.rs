@@ -32,6 +32,12 @@ fn read_text(name: &str, text: &str) -> Result<Loaded, Diagnostics> {
     comgeom::read(&SourceFile::new(name, text), &LoadOptions::default())
 }
 
+/// Read a deck that must load, showing the diagnostics (not the whole
+/// deck) when it does not.
+fn read_ok(name: &str, text: &str) -> Loaded {
+    read_text(name, text).unwrap_or_else(|d| panic!("{name} does not load:\n{}", d.render_plain()))
+}
+
 fn load(name: &str) -> Option<Loaded> {
     let text = deck_text(name)?;
     match read_text(name, &text) {
@@ -539,10 +545,10 @@ fn writer_keeps_full_precision_and_says_when_it_cannot() {
         &[v5_body("1", "SPH", &["1.5e-7", "-2.25", "1e20", "0.1"])],
         &[v5_region("1", &[("", 1)])],
     );
-    let mut scene = read_text("p.cg", &text).unwrap().scene;
+    let mut scene = read_ok("p.cg", &text).scene;
     scene.geometry.bodies[0].params[3] = 0.1 + 0.2;
     let w = comgeom::write(&scene).unwrap();
-    let again = read_text("w.cg", &w.text).unwrap().scene;
+    let again = read_ok("w.cg", &w.text).scene;
     assert_eq!(again.geometry.bodies[0].params[..3], [1.5e-7, -2.25, 1e20]);
     assert!((again.geometry.bodies[0].params[3] - 0.3).abs() < 1e-9);
     assert_eq!(
@@ -585,7 +591,7 @@ fn v1_decks_have_no_control_card_and_end_cards() {
     .join("\n");
     let deck = deck.as_str();
     assert_eq!(comgeom::detect_version(deck), DeckVersion::V1);
-    let l = read_text("v1.cg", deck).unwrap();
+    let l = read_ok("v1.cg", deck);
     let g = &l.scene.geometry;
     assert_eq!(l.scene.units, Units::Inch);
     assert_eq!(l.scene.title, "OLD MAGI STYLE DECK");
@@ -600,7 +606,7 @@ fn v1_decks_have_no_control_card_and_end_cards() {
 fn ell_means_foci_in_v4_and_centre_in_v5() {
     let v4 = "in   v4\n                   1         1\n1  ELL       0.        0.        0.        2.        0.        0.\n1             4.\n  1       1\n-1\n\n  1         100\n";
     assert_eq!(comgeom::detect_version(v4), DeckVersion::V4);
-    let b = &read_text("v4.cg", v4).unwrap().scene.geometry.bodies[0];
+    let b = &read_ok("v4.cg", v4).scene.geometry.bodies[0];
     assert_eq!(
         (b.kind, b.params.as_slice()),
         (BodyKind::Ell, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..])
@@ -614,7 +620,7 @@ fn ell_means_foci_in_v4_and_centre_in_v5() {
         ],
         &[v5_region("1", &[("", 1)])],
     );
-    let b = &read_text("v5.cg", &v5).unwrap().scene.geometry.bodies[0];
+    let b = &read_ok("v5.cg", &v5).scene.geometry.bodies[0];
     assert_eq!(
         (b.kind, b.params.as_slice()),
         (BodyKind::Ell1, &[0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 4.0][..])
@@ -643,18 +649,65 @@ fn units_are_case_blind_and_unknown_units_warn_and_mean_inches() {
         ("m ", Units::Metre),
     ] {
         let deck = v5_deck(1, 1, &body, &region).replacen("in ", card, 1);
-        assert_eq!(
-            read_text("u.cg", &deck).unwrap().scene.units,
-            units,
-            "{card}"
-        );
+        assert_eq!(read_ok("u.cg", &deck).scene.units, units, "{card}");
     }
     let deck = v5_deck(1, 1, &body, &region).replacen("in ", "yd ", 1);
-    let l = read_text("u.cg", &deck).unwrap();
+    let l = read_ok("u.cg", &deck);
     assert_eq!(l.scene.units, Units::Inch);
     assert_eq!(
         l.warnings[0].message,
         "line 1, columns 1–2: unknown units \"yd\"; inches assumed"
+    );
+}
+
+#[test]
+fn region_fields_that_straddle_column_7_are_read_from_the_column_that_fits() {
+    // MEP-021A style (left-aligned numbers from column 10) with a 4-digit
+    // body number: "-1000" in columns 17-21 crosses the documented fields.
+    let bodies: Vec<String> = (1..=1000).map(sph).collect();
+    let region = format!("{:<9}{:<7}{:<7}", "  1", "1", "-1000");
+    let l = read_text("wide.cg", &v5_deck(1000, 1, &bodies, &[region])).unwrap();
+    assert_eq!(
+        l.scene.geometry.regions[0].zones[0].terms,
+        terms(&[1, -1000])
+    );
+    let msgs: Vec<_> = l.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert_eq!(
+        msgs,
+        ["line 1003, columns 7–69: the region fields do not fit the columns from 7 (first on this card); every region card reads with fields from column 8, so that is used"]
+    );
+
+    // GIFT style (right-aligned numbers ending in columns 11, 18, ...).
+    let mut deck = String::from("in   gift style\n                1001         1\n");
+    for n in 1..=1001 {
+        deck.push_str(&format!(
+            "{:<3}{:<7}{:>10}{:>10}{:>10}{:>10}\n",
+            n % 1000,
+            "SPH",
+            "0.",
+            "0.",
+            "0.",
+            "1."
+        ));
+    }
+    deck.push_str(&format!(
+        "{:>3}{:>8}{:>7}\n-1\n\n  1         100\n",
+        "1", "1000", "-1001"
+    ));
+    assert_eq!(comgeom::detect_version(&deck), DeckVersion::V4);
+    let l = read_ok("gift.cg", &deck);
+    assert_eq!(l.scene.geometry.bodies.len(), 1001);
+    assert_eq!(
+        l.scene.geometry.regions[0].zones[0].terms,
+        terms(&[1000, -1001])
+    );
+    assert_eq!(l.warnings.len(), 1);
+    assert!(
+        l.warnings[0]
+            .message
+            .ends_with("fields from column 6, so that is used"),
+        "{}",
+        l.warnings[0].message
     );
 }
 
@@ -755,7 +808,7 @@ fn a_first_region_card_may_start_with_an_operator() {
     assert_eq!(l.scene.geometry.regions[1].zones[0].terms, terms(&[1, -2]));
     // Without the control card's count it is still not read as a body.
     let deck = v5_deck(2, 2, &bodies, &regions).replacen("    2    2", "    0    0", 1);
-    let l = read_text("op.cg", &deck).unwrap();
+    let l = read_ok("op.cg", &deck);
     assert_eq!(l.scene.geometry.bodies.len(), 2);
     assert_eq!(l.scene.geometry.regions.len(), 2);
 }
@@ -852,6 +905,15 @@ fn a_missing_body_names_the_region_and_the_body() {
         ],
     );
     assert_eq!(errors(&deck), ["line 5, columns 16–20: region 2 refers to body 23, which is not defined (the deck has 1 bodies)"]);
+}
+
+#[test]
+fn an_operator_without_a_number_is_an_error() {
+    let deck = v5_deck(1, 1, &[sph(1)], &["    1       1OR".to_string()]);
+    assert_eq!(
+        errors(&deck),
+        ["line 4, columns 14–20: expected an operator and a body number in region 1, found \"OR\" with no number"]
+    );
 }
 
 #[test]
@@ -978,7 +1040,7 @@ fn body_numbers_must_count_up_in_v5() {
 #[test]
 fn count_mismatches_and_a_missing_end_card_are_warnings() {
     let deck = v5_deck(3, 2, &[sph(1)], &[v5_region("1", &[("", 1)])]).replace("   -1\n", "");
-    let l = read_text("w.cg", &deck).unwrap();
+    let l = read_ok("w.cg", &deck);
     let msgs: Vec<_> = l.warnings.iter().map(|w| w.message.as_str()).collect();
     assert_eq!(
         msgs,

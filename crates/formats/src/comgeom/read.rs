@@ -27,7 +27,6 @@ struct Layout {
     num_len: usize,
     type_col: usize,
     type_len: usize,
-    region_fields: usize,
 }
 
 fn layout(v: DeckVersion) -> Layout {
@@ -37,7 +36,6 @@ fn layout(v: DeckVersion) -> Layout {
             num_len: 5,
             type_col: 6,
             type_len: 5,
-            region_fields: 7,
         },
         // comgeom-g reads the v4 type from columns 4-10.
         DeckVersion::V4 => Layout {
@@ -45,14 +43,12 @@ fn layout(v: DeckVersion) -> Layout {
             num_len: 3,
             type_col: 4,
             type_len: 7,
-            region_fields: 7,
         },
         DeckVersion::V1 => Layout {
             num_col: 6,
             num_len: 4,
             type_col: 3,
             type_len: 3,
-            region_fields: 11,
         },
     }
 }
@@ -689,7 +685,6 @@ impl<'a> Reader<'a> {
     fn region_table(&mut self) -> Vec<RawRegion> {
         let mut regions: Vec<RawRegion> = Vec::new();
         let mut by_number: HashMap<i64, usize> = HashMap::new();
-        let fc = self.lay.region_fields;
         let nbodies = self.bodies.len();
         if self.peek().is_none() {
             let l = self.last_line();
@@ -702,6 +697,8 @@ impl<'a> Reader<'a> {
             );
             return regions;
         }
+        let fc = self.region_field_start();
+        let nlen = (fc - 1).min(5);
         loop {
             let Some(card) = self.next() else {
                 let l = self.last_line();
@@ -715,9 +712,9 @@ impl<'a> Reader<'a> {
             if self.version == DeckVersion::V1 && card.text.trim().eq_ignore_ascii_case("end") {
                 break;
             }
-            let nf = card.field(1, 5);
+            let nf = card.field(1, nlen);
             let Some(num) = parse_int(nf) else {
-                self.error(card.line, 1, 5, format!("{}: expected a region number, found \"{}\"", at(card.line, 1, 5), nf.trim()))
+                self.error(card.line, 1, nlen, format!("{}: expected a region number, found \"{}\"", at(card.line, 1, nlen), nf.trim()))
                     .hint = Some("a region card starts with the region number in columns 1–5 (blank continues the region, -1 ends the table)".into());
                 continue;
             };
@@ -759,6 +756,19 @@ impl<'a> Reader<'a> {
                 let raw = card.field(col + 2, 5);
                 let digits: String = raw.chars().filter(|c| !c.is_whitespace()).collect();
                 if digits.is_empty() {
+                    if !op.trim().is_empty() {
+                        self.error(
+                            card.line,
+                            col,
+                            7,
+                            format!(
+                                "{}: expected an operator and a body number in region {rnum}, found \"{}\" with no number",
+                                at(card.line, col, 7),
+                                op.trim()
+                            ),
+                        )
+                        .hint = Some("each region field is a 2-character operator and a signed 5-digit body number".into());
+                    }
                     continue;
                 }
                 let Some(n) = parse_int(&digits) else {
@@ -769,20 +779,9 @@ impl<'a> Reader<'a> {
                 if n == 0 {
                     continue;
                 }
-                let up: Vec<char> = op
-                    .chars()
-                    .map(|c| c.to_ascii_uppercase())
-                    .chain([' ', ' '])
-                    .take(2)
-                    .collect();
-                let (region_ref, new_zone, op_minus) = match (up[0], up[1]) {
-                    ('O', 'R') => (false, true, false),
-                    ('O', 'G') => (true, true, false),
-                    (c0, 'G') if matches!(c0, ' ' | '+' | '-') => (true, false, c0 == '-'),
-                    (c0, c1) if matches!(c0, ' ' | '+' | '-') && matches!(c1, ' ' | '+' | '-') => {
-                        (false, false, c0 == '-' || c1 == '-')
-                    }
-                    _ => {
+                let (region_ref, new_zone, op_minus) = match parse_op(op) {
+                    Some(o) => o,
+                    None => {
                         self.error(
                             card.line,
                             col,
@@ -831,6 +830,40 @@ impl<'a> Reader<'a> {
             r.zones.retain(|z| !z.is_empty());
         }
         regions
+    }
+
+    /// The column where the nine region fields start. comgeom-g reads them
+    /// from column 7 (11 in v1), but decks with left-aligned (MEP-021A) or
+    /// GIFT-style numbers can put a 4- or 5-digit number across a field
+    /// boundary there. When column 7 does not read every region card and
+    /// another start (6, 5, 8 or 9) reads them all, that one is used, with a
+    /// warning.
+    fn region_field_start(&mut self) -> usize {
+        if self.version == DeckVersion::V1 {
+            return 11;
+        }
+        let table: Vec<Card<'a>> = self.cards[self.pos..]
+            .iter()
+            .filter(|c| !c.is_blank())
+            .take_while(|c| !parse_int(c.field(1, 5)).is_some_and(|n| n < 0))
+            .copied()
+            .collect();
+        let Some(bad) = table.iter().find(|c| !region_card_fits(c, 7)) else {
+            return 7;
+        };
+        for start in [6, 5, 8, 9] {
+            if table.iter().all(|c| region_card_fits(c, start)) {
+                let line = bad.line;
+                self.warn(
+                    line,
+                    7,
+                    63,
+                    format!("{}: the region fields do not fit the columns from 7 (first on this card); every region card reads with fields from column {start}, so that is used", at(line, 7, 63)),
+                );
+                return start;
+            }
+        }
+        7
     }
 
     fn ident_table(&mut self, regions: &[RawRegion], props: &mut [RegionProps]) {
@@ -1180,6 +1213,51 @@ fn simplify(zones: &mut Vec<Vec<Term>>) {
     let mut seen = std::collections::HashSet::new();
     let z = prune(std::mem::take(zones));
     zones.extend(z.into_iter().filter(|zone| seen.insert(zone.clone())));
+}
+
+/// The meaning of a region-field operator: (region reference, starts a new
+/// zone, subtracts). Blank, `OR`, `G`/`OG` for a region; `+` and `-` signs
+/// in the operator columns are accepted too.
+fn parse_op(op: &str) -> Option<(bool, bool, bool)> {
+    let up: Vec<char> = op
+        .chars()
+        .map(|c| c.to_ascii_uppercase())
+        .chain([' ', ' '])
+        .take(2)
+        .collect();
+    Some(match (up[0], up[1]) {
+        ('O', 'R') => (false, true, false),
+        ('O', 'G') => (true, true, false),
+        (c0, 'G') if matches!(c0, ' ' | '+' | '-') => (true, false, c0 == '-'),
+        (c0, c1) if matches!(c0, ' ' | '+' | '-') && matches!(c1, ' ' | '+' | '-') => {
+            (false, false, c0 == '-' || c1 == '-')
+        }
+        _ => return None,
+    })
+}
+
+/// True when a region card reads without errors with its fields starting
+/// at column `start` (and its region number in the columns before, at most
+/// 5 of them).
+fn region_card_fits(card: &Card, start: usize) -> bool {
+    if parse_int(card.field(1, (start - 1).min(5))).is_none()
+        || start > 6 && !card.field(6, start - 6).trim().is_empty()
+    {
+        return false;
+    }
+    (0..9).all(|i| {
+        let col = start + 7 * i;
+        let digits: String = card
+            .field(col + 2, 5)
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect();
+        match parse_int(&digits) {
+            _ if digits.is_empty() => card.field(col, 2).trim().is_empty(),
+            Some(_) => parse_op(card.field(col, 2)).is_some(),
+            None => false,
+        }
+    })
 }
 
 /// True when a card reads as a region card whose first field has an `OR` or

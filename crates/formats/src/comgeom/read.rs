@@ -845,7 +845,7 @@ impl<'a> Reader<'a> {
         let table: Vec<Card<'a>> = self.cards[self.pos..]
             .iter()
             .filter(|c| !c.is_blank())
-            .take_while(|c| !parse_int(c.field(1, 5)).is_some_and(|n| n < 0))
+            .take_while(|c| parse_int(c.field(1, 5)).is_none_or(|n| n >= 0))
             .copied()
             .collect();
         let Some(bad) = table.iter().find(|c| !region_card_fits(c, 7)) else {

@@ -1071,6 +1071,22 @@ fn a_deck_with_thousands_of_errors_reports_the_first_200_and_counts_the_rest() {
     assert_eq!(msgs[200], "800 more errors and warnings are not shown");
 }
 
+#[test]
+fn a_control_card_claiming_too_many_bodies_only_warns() {
+    let Some(text) = deck_text(GENERATOR) else {
+        return;
+    };
+    let text = text.replacen("282  282", "290  282", 1);
+    let l = read_ok(GENERATOR, &text);
+    assert_eq!(l.scene.geometry.bodies.len(), 282);
+    assert_eq!(l.scene.geometry.regions.len(), 282);
+    let msgs: Vec<_> = l.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert_eq!(
+        msgs,
+        ["line 2: the control card declares 290 bodies, but the deck defines 282"]
+    );
+}
+
 // ---------------------------------------------------------------- robustness
 
 #[derive(Clone, Debug)]

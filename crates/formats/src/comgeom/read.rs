@@ -438,7 +438,13 @@ impl<'a> Reader<'a> {
                 // `G`) has letters in the type columns too.
                 let region_like =
                     kind_for(ty, self.version).is_none() && starts_with_operator(&card);
-                let is_body = !ty.is_empty() && (more_declared || starts_alpha && !region_like);
+                // More declared bodies do not make a region card a body:
+                // a wrong count is only a warning.
+                let region_card = [7, 6, 5, 8, 9].iter().any(|&s| region_card_fits(&card, s));
+                let is_body = !ty.is_empty()
+                    && (kind_for(ty, self.version).is_some()
+                        || starts_alpha && !region_like
+                        || more_declared && !region_card);
                 if !is_body {
                     return;
                 }

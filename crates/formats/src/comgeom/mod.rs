@@ -17,9 +17,19 @@
 //! * regions are named by their number; `OR` starts a new zone; a `G`
 //!   operator refers to a region, which is expanded into body terms
 //!   (subtracting a region uses De Morgan's law, capped at [`MAX_ZONES`]);
+//! * region fields are read from column 7 (11 in v1) as in `comgeom-g`;
+//!   when a deck's numbers straddle those columns (left-aligned or GIFT-style
+//!   4- and 5-digit numbers) and another start column reads every region card,
+//!   that one is used, with a warning;
 //! * the ident table fills [`RegionProps`](sv_scene::RegionProps); a non-zero
-//!   air code makes the region transparent;
-//! * every error of a deck is reported, each with its line and columns.
+//!   air code makes the region transparent; v4 ident cards whose columns
+//!   75–80 hold text (the GIFT sample target writes the body type there) keep
+//!   it in the description;
+//! * every error of a deck is reported (up to 200, then a count), each with
+//!   its line and columns; a wrong count on the control card is a warning.
+//!
+//! The writer ([`write()`]) produces a v5 deck that reads back to the same
+//! geometry; see its documentation for what it cannot carry.
 //!
 //! ```
 //! use sv_formats::{comgeom, LoadOptions, SourceFile};

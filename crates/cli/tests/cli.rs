@@ -226,3 +226,47 @@ fn convert_writes_decks_that_read_back_the_same() {
         );
     }
 }
+
+#[test]
+fn alpha_channel_and_background_plate() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = examples().join("figure1/figure1.sv");
+    let out = dir.path().join("a.png");
+    let o = sv(&[
+        "render",
+        f.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--alpha",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().into_rgba8();
+    assert_eq!(img.get_pixel(0, 0).0[3], 0, "background is transparent");
+    assert!(img.pixels().any(|p| p.0[3] == 255), "geometry is opaque");
+    // A plate of pure red shows wherever no region is hit.
+    let plate = dir.path().join("plate.png");
+    image::RgbImage::from_pixel(32, 24, image::Rgb([255, 0, 0]))
+        .save(&plate)
+        .unwrap();
+    let out2 = dir.path().join("b.png");
+    let o = sv(&[
+        "render",
+        f.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--background",
+        plate.to_str().unwrap(),
+        "-o",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out2).unwrap().into_rgb8();
+    assert_eq!(img.get_pixel(0, 0).0, [255, 0, 0]);
+    let geometry: Vec<_> = img.pixels().filter(|p| p.0 != [255, 0, 0]).collect();
+    assert!(
+        geometry.iter().any(|p| p.0[1] > 0),
+        "grey geometry is drawn over the plate"
+    );
+}

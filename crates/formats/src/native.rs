@@ -765,8 +765,14 @@ fn include(
     match loaded {
         Ok(loaded) => {
             warnings.extend(loaded.warnings);
-            if let Err(msg) = merge(scene, loaded.scene) {
-                let d = cx.err(t, msg);
+            let tag = Path::new(&t.text)
+                .file_stem()
+                .map_or(t.text.clone(), |s| s.to_string_lossy().into_owned());
+            if let Err(MergeError::Region(r)) = merge(scene, loaded.scene, &tag, Clash::Rename) {
+                let d = cx.err(
+                    t,
+                    format!("region `{r}` is defined both here and in the included file"),
+                );
                 cx.report(d);
             }
         }
@@ -785,9 +791,43 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Add another scene's geometry, regions and notes to `scene`, scaled from
-/// its units into the scene's. Body and region names must not clash.
-pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
+/// Why a scene cannot be merged into another.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MergeError {
+    /// A region of this name is in both scenes.
+    Region(String),
+}
+
+/// What [`merge`] does with a region whose name is taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clash {
+    /// Refuse the merge (names matter to the caller, as in a film script).
+    Refuse,
+    /// Rename the incoming region `tag/name`.
+    Rename,
+}
+
+/// Add `other` to `scene`: its bodies (a body whose name is taken becomes
+/// `tag/name`; regions as `regions` says), its regions (body references shifted), its lights whose
+/// names are new, and its notes; camera, picture size and title are taken
+/// only where `scene` has none. `other` is scaled from its units into the
+/// scene's; a scene still without units takes them from the first model
+/// merged into it. A region name in both scenes is an error, and `scene` is
+/// then left unchanged.
+pub fn merge(
+    scene: &mut Scene,
+    mut other: Scene,
+    tag: &str,
+    regions: Clash,
+) -> Result<(), MergeError> {
+    for r in &mut other.geometry.regions {
+        if scene.geometry.region_index(&r.name).is_some() {
+            match regions {
+                Clash::Refuse => return Err(MergeError::Region(r.name.clone())),
+                Clash::Rename => r.name = format!("{tag}/{}", r.name),
+            }
+        }
+    }
     let offset = scene.geometry.bodies.len();
     let unset = scene.notes.iter().any(|n| n == UNITS_UNSET);
     if unset && offset == 0 {
@@ -797,26 +837,18 @@ pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
         let f = other.units.mm() / scene.units.mm();
         let xf = sv_math::DAffine3::from_scale(DVec3::splat(f));
         for b in &mut other.geometry.bodies {
-            *b = b.transformed(&xf).map_err(|e| e.to_string())?;
+            // A uniform positive scale is a similarity: it cannot fail.
+            if let Ok(scaled) = b.transformed(&xf) {
+                *b = scaled;
+            }
         }
     }
-    for b in &other.geometry.bodies {
+    for mut b in other.geometry.bodies {
         if scene.geometry.body_index(&b.name).is_some() {
-            return Err(format!(
-                "body `{}` is defined both here and in the included file",
-                b.name
-            ));
+            b.name = format!("{tag}/{}", b.name);
         }
+        scene.geometry.bodies.push(b);
     }
-    for r in &other.geometry.regions {
-        if scene.geometry.region_index(&r.name).is_some() {
-            return Err(format!(
-                "region `{}` is defined both here and in the included file",
-                r.name
-            ));
-        }
-    }
-    scene.geometry.bodies.extend(other.geometry.bodies);
     for (mut r, p) in other.geometry.regions.into_iter().zip(other.regions) {
         for z in &mut r.zones {
             for t in &mut z.terms {
@@ -829,16 +861,17 @@ pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
         scene.title = other.title;
     }
     scene.notes.extend(other.notes);
-    // A wrapper scene that only includes a model keeps the model's view.
-    if scene.camera.is_none() {
-        scene.camera = other.camera;
+    for l in other.lights {
+        if !scene
+            .lights
+            .iter()
+            .any(|m| m.name.eq_ignore_ascii_case(&l.name))
+        {
+            scene.lights.push(l);
+        }
     }
-    if scene.lights.is_empty() {
-        scene.lights = other.lights;
-    }
-    if scene.size.is_none() {
-        scene.size = other.size;
-    }
+    scene.camera = scene.camera.or(other.camera);
+    scene.size = scene.size.or(other.size);
     Ok(())
 }
 
@@ -875,19 +908,7 @@ pub fn write(scene: &Scene) -> String {
         let zones: Vec<String> = r
             .zones
             .iter()
-            .map(|z| {
-                z.terms
-                    .iter()
-                    .map(|t| {
-                        format!(
-                            "{}{}",
-                            if t.op == Op::Inside { '+' } else { '-' },
-                            names[t.body]
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            })
+            .map(|z| z.expression(|b| &names[b]))
             .collect();
         s.push_str(&format!(
             "REGION {} = {}",

@@ -23,9 +23,11 @@ fn every_fluka_test_input_renders_a_non_empty_picture() {
     assert!(files.len() >= 80, "the test set has {} inputs", files.len());
     let mut empty = Vec::new();
     for f in &files {
-        let scene = load_file(f, &LoadOptions::default())
+        let mut scene = load_file(f, &LoadOptions::default())
             .unwrap_or_else(|e| panic!("{}: {e}", f.display()))
             .scene;
+        // As `render` does: a model that is all vacuum shows its vacuum.
+        scene.show_air_if_nothing_else();
         let (r, _) =
             Renderer::new(&scene, 4.0 / 3.0).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         // Small pictures first; a needle-thin model (009_ARB: 7 cm wide and

@@ -26,6 +26,7 @@
 
 use crate::diag::{did_you_mean, Diagnostic, Diagnostics, SourceFile};
 use crate::{LoadError, LoadOptions, Loaded};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use sv_geom::{Body, BodyKind, Op, Region, Term, Zone, BODY_TYPES};
 use sv_math::DVec3;
@@ -219,6 +220,28 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
     Ok(Loaded { scene, warnings })
 }
 
+/// Name → index maps of the scene being read, kept in step with it, so a
+/// look-up costs O(1): a linear search per reference made reading a
+/// 100,000-body scene quadratic.
+#[derive(Default)]
+struct Names {
+    bodies: HashMap<String, usize>,
+    regions: HashMap<String, usize>,
+}
+
+impl Names {
+    /// Take in bodies and regions added since the last call.
+    fn sync(&mut self, scene: &Scene) {
+        let g = &scene.geometry;
+        for (i, b) in g.bodies.iter().enumerate().skip(self.bodies.len()) {
+            self.bodies.entry(b.name.clone()).or_insert(i);
+        }
+        for (i, r) in g.regions.iter().enumerate().skip(self.regions.len()) {
+            self.regions.entry(r.name.clone()).or_insert(i);
+        }
+    }
+}
+
 fn read_into(
     src: &SourceFile,
     opts: &LoadOptions,
@@ -227,11 +250,13 @@ fn read_into(
     warnings: &mut Vec<Diagnostic>,
     stack: &mut Vec<PathBuf>,
 ) {
+    let mut names = Names::default();
     for (i, text) in src.text.lines().enumerate() {
         let toks = tokenize(text);
         if toks.is_empty() {
             continue;
         }
+        names.sync(scene);
         let mut cx = Ctx {
             src,
             line: i + 1,
@@ -268,8 +293,8 @@ fn read_into(
                         .err(t, format!("unknown unit `{}`", t.text))
                         .with_hint("use one of in, ft, mm, cm, m")),
                 }),
-            "BODY" => body(&mut ln, &mut cx, scene),
-            "REGION" => region(&mut ln, &mut cx, scene),
+            "BODY" => body(&mut ln, &mut cx, scene, &names),
+            "REGION" => region(&mut ln, &mut cx, scene, &names),
             "INCLUDE" => match ln.word(&mut cx, "a file name in quotes") {
                 Ok(t) => {
                     include(t, &mut cx, opts, scene, warnings, stack);
@@ -353,7 +378,7 @@ fn read_into(
     }
 }
 
-fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic> {
+fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
     let name = ln.word(cx, "a body name or number")?;
     let ty = ln.word(cx, "a body type (SPH, RCC, …)")?;
     let Some(kind) = BodyKind::from_name(&ty.text) else {
@@ -402,7 +427,7 @@ fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic
                 format!("{kind}: {}", layout.join(" "))
             }));
     }
-    if scene.geometry.body_index(&name.text).is_some() {
+    if names.bodies.contains_key(&name.text) {
         return Err(cx.err(name, format!("body `{}` is defined twice", name.text)));
     }
     scene
@@ -422,9 +447,9 @@ fn colour(ln: &mut Line, cx: &mut Ctx) -> Result<[f64; 3], Diagnostic> {
 
 const REGION_PROPS: &[&str] = &["COLOR", "COLOUR", "K", "TRANSPARENT", "OPAQUE", "DENSITY"];
 
-fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic> {
+fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
     let name = ln.word(cx, "a region name or number")?;
-    let existing = scene.geometry.region_index(&name.text);
+    let existing = names.regions.get(&name.text).copied();
     let mut props = existing
         .map(|i| scene.regions[i].clone())
         .unwrap_or_default();
@@ -465,7 +490,7 @@ fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnost
                     continue;
                 }
             };
-            match scene.geometry.body_index(body) {
+            match names.bodies.get(body).copied() {
                 Some(b) => zones.last_mut().unwrap().terms.push(Term { op, body: b }),
                 None => {
                     let mut d = cx.err(

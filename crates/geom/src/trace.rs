@@ -286,17 +286,17 @@ impl Prepared {
     }
 
     /// The opaque zones whose bounds meet the frustum, in hierarchy order
-    /// (unbounded zones first).
-    pub fn frustum_zones(&self, f: &Frustum, out: &mut Vec<u32>) {
+    /// (unbounded zones first). Gives up and returns false as soon as there
+    /// are more than `max`: the rays had better walk the hierarchy then.
+    pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
         out.clear();
         out.extend_from_slice(&self.unbounded_opaque);
         let nodes = &self.bvh_opaque.nodes;
-        if nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![0usize];
-        while let Some(n) = stack.pop() {
-            let node = nodes[n];
+        let mut stack = [0u32; 64];
+        let mut sp = usize::from(!nodes.is_empty());
+        while sp > 0 {
+            sp -= 1;
+            let node = nodes[stack[sp] as usize];
             if !f.may_meet(&node.bounds) {
                 continue;
             }
@@ -308,11 +308,19 @@ impl Prepared {
                         .iter()
                         .filter(|&&zi| f.may_meet(&self.zones[zi as usize].bounds)),
                 );
+            } else if sp + 2 <= stack.len() {
+                stack[sp] = node.first + 1;
+                stack[sp + 1] = node.first;
+                sp += 2;
             } else {
-                stack.push(node.first as usize + 1);
-                stack.push(node.first as usize);
+                // Deeper than the stack: let the rays walk the hierarchy.
+                return false;
+            }
+            if out.len() > max {
+                return false;
             }
         }
+        out.len() <= max
     }
 
     /// True when an opaque region lies on the ray within `(tmin, tmax)`

@@ -22,6 +22,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use sv_geom::{Frustum, Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
 
+/// A worker's memory: ray scratch, a tile's candidate zones, and the same
+/// sorted by distance.
+type Workspace = (Scratch, Vec<u32>, Vec<(f64, u32)>);
+
 /// Tiles are TILE×TILE pixels.
 const TILE: usize = 16;
 /// Above this many candidate zones a tile's rays walk the hierarchy.
@@ -167,8 +171,7 @@ impl Renderer {
         let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
         // One working memory per worker thread, made once: a `Scratch` is
         // sized by the body count, too big to make for every piece of work.
-        let pool: Vec<Mutex<(Scratch, Vec<u32>, Vec<(f64, u32)>)>> = (0
-            ..rayon::current_num_threads())
+        let pool: Vec<Mutex<Workspace>> = (0..rayon::current_num_threads())
             .map(|_| Mutex::new((Scratch::new(&self.prepared), Vec::new(), Vec::new())))
             .collect();
         let mine = || {

@@ -234,14 +234,35 @@ impl Prepared {
         best
     }
 
-    /// Order `zones` for [`Prepared::first_hit_in`] for rays starting at
-    /// `eye`: each zone with the distance from `eye` to its bounds.
-    pub fn by_distance(&self, zones: &[u32], eye: DVec3, out: &mut Vec<(f64, u32)>) {
+    /// Order `zones` for [`Prepared::first_hit_in`]: each zone with a lower
+    /// bound of the distance at which rays leaving `eye` (perspective), or
+    /// rays along `dir` leaving the plane through `eye` normal to `dir`
+    /// (orthographic, `dir` unit), can enter its bounds.
+    pub fn by_distance(
+        &self,
+        zones: &[u32],
+        eye: DVec3,
+        parallel: Option<DVec3>,
+        out: &mut Vec<(f64, u32)>,
+    ) {
         out.clear();
+        let base = parallel.map_or(0.0, |d| eye.dot(d));
         out.extend(zones.iter().map(|&zi| {
             let b = &self.zones[zi as usize].bounds;
-            let d = (b.min - eye).max(eye - b.max).max(DVec3::ZERO);
-            (d.length(), zi)
+            let near = match parallel {
+                None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
+                Some(d) => {
+                    // The box corner furthest against `d`.
+                    let p = DVec3::new(
+                        if d.x > 0.0 { b.min.x } else { b.max.x },
+                        if d.y > 0.0 { b.min.y } else { b.max.y },
+                        if d.z > 0.0 { b.min.z } else { b.max.z },
+                    );
+                    p.dot(d) - base
+                }
+            };
+            // Rounding slack keeps the bound a bound.
+            (near - 1e-9 * (near.abs() + base.abs()), zi)
         }));
         out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     }

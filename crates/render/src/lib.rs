@@ -199,16 +199,12 @@ impl Renderer {
                         MAX_TILE_ZONES,
                         cands,
                     );
-                    // Perspective rays all start at the eye, so the
-                    // distance from the eye to a zone's box bounds
-                    // where they can enter it. Orthographic rays start
-                    // on the image plane: no useful bound, keep order.
-                    if ortho {
-                        sorted.clear();
-                        sorted.extend(cands.iter().map(|&z| (f64::NEG_INFINITY, z)));
-                    } else {
-                        self.prepared.by_distance(cands, self.camera.eye, sorted);
-                    }
+                    // A lower bound of where the tile's rays can enter
+                    // each zone lets a ray stop at the first zone that
+                    // cannot come nearer than its best hit.
+                    let parallel = ortho.then(|| self.camera.dir.normalize());
+                    self.prepared
+                        .by_distance(cands, self.camera.eye, parallel, sorted);
                     for yy in 0..rows {
                         for x in x0..x1 {
                             let i = yy * w + x;

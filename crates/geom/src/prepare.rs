@@ -59,6 +59,8 @@ pub(crate) struct PZone {
     pub plus: u16,
     pub minus: u16,
     pub bounds: Aabb,
+    /// Every `+` body is convex (so the zone's `+` part is convex).
+    pub convex: bool,
 }
 
 /// A geometry ready for ray casting: flat arrays of prepared bodies and
@@ -164,7 +166,9 @@ impl Prepared {
                     .map(|t| t.body as u32)
                     .collect();
                 minus.dedup();
+                let convex = plus.iter().all(|&b| shapes[b as usize].is_convex());
                 zones.push(PZone {
+                    convex,
                     region: ri as u32,
                     first: terms.len() as u32,
                     plus: plus.len() as u16,

@@ -5,7 +5,7 @@ use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
 use crate::bvh::hits;
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Seg;
-use sv_math::{DVec3, Ray};
+use sv_math::{Aabb, DVec3, Ray};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
 /// nothing once it has warmed up.
@@ -58,6 +58,8 @@ pub struct Hit {
     pub bound: Bound,
     /// True when the ray started inside the region (no surface crossed).
     pub inside: bool,
+    /// The zone of the region that was hit.
+    pub zone: u32,
 }
 
 /// A stretch of the ray inside one region.
@@ -296,6 +298,7 @@ impl Prepared {
         };
         if better {
             *best = Some(Hit {
+                zone: zi,
                 t,
                 region: z.region,
                 bound: sp.a,
@@ -345,11 +348,19 @@ impl Prepared {
     }
 
     /// True when an opaque region lies on the ray within `(tmin, tmax)`
-    /// (shadow rays: any hit will do).
-    pub fn occluded(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> bool {
+    /// (shadow rays: any hit will do), never looking at zone `skip` (see
+    /// [`Prepared::shadow_skip`]).
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        skip: Option<u32>,
+        s: &mut Scratch,
+    ) -> bool {
         s.new_ray();
         for &zi in &self.unbounded_opaque {
-            if self.zone_spans(&self.zones[zi as usize], ray, tmin, tmax, s) {
+            if Some(zi) != skip && self.zone_spans(&self.zones[zi as usize], ray, tmin, tmax, s) {
                 return true;
             }
         }
@@ -358,7 +369,11 @@ impl Prepared {
         self.bvh_opaque
             .traverse(ray, tmin, &mut limit, |items, limit| {
                 for &zi in items {
-                    if self.zone_spans(&self.zones[zi as usize], ray, tmin, *limit, s) {
+                    let z = &self.zones[zi as usize];
+                    if Some(zi) != skip
+                        && hits(&z.bounds, ray, tmin, *limit).is_some()
+                        && self.zone_spans(z, ray, tmin, *limit, s)
+                    {
                         found = true;
                         return true;
                     }
@@ -366,6 +381,98 @@ impl Prepared {
                 false
             });
         found
+    }
+
+    /// The zone that a ray leaving `hit` toward the outside of its surface
+    /// (a shadow ray with `cos θ > 0`) cannot meet again, if any: the hit
+    /// zone itself when the surface belongs to one of its `+` bodies and
+    /// all of them are convex. Their intersection is convex, so the ray
+    /// leaves it for good, and `-` bodies only take material away.
+    pub fn shadow_skip(&self, hit: &Hit) -> Option<u32> {
+        let z = &self.zones[hit.zone as usize];
+        (!hit.inside && !hit.bound.flip && z.convex).then_some(hit.zone)
+    }
+
+    /// As [`Prepared::occluded`], looking only at `zones` (from
+    /// [`Prepared::swept_zones`] for a bundle of shadow rays): the same
+    /// answer for any ray of the bundle.
+    pub fn occluded_in(
+        &self,
+        zones: &[u32],
+        skip: Option<u32>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> bool {
+        s.new_ray();
+        zones.iter().any(|&zi| {
+            let z = &self.zones[zi as usize];
+            Some(zi) != skip
+                && hits(&z.bounds, ray, tmin, tmax).is_some()
+                && self.zone_spans(z, ray, tmin, tmax, s)
+        })
+    }
+
+    /// The opaque zones whose bounds the box `from`, swept along `dir` for
+    /// `t >= 0`, may meet (with `dir` = `None`: the zones meeting `from`
+    /// itself). A shadow ray toward a parallel light from any point of
+    /// `from` can only meet these; so can one toward a point light when
+    /// `from` holds both the points and the light. Gives up past `max`.
+    pub fn swept_zones(
+        &self,
+        from: &Aabb,
+        dir: Option<DVec3>,
+        max: usize,
+        out: &mut Vec<u32>,
+    ) -> bool {
+        out.clear();
+        out.extend_from_slice(&self.unbounded_opaque);
+        let h = from.size() * 0.5 + DVec3::splat(self.tol);
+        let c = from.center();
+        let meets = |b: &Aabb| match dir {
+            Some(d) => hits(
+                &Aabb::new(b.min - h, b.max + h),
+                &Ray {
+                    origin: c,
+                    dir: d,
+                    inv_dir: d.recip(),
+                },
+                0.0,
+                f64::INFINITY,
+            )
+            .is_some(),
+            None => !b.intersection(&from.padded(self.tol)).is_empty(),
+        };
+        let nodes = &self.bvh_opaque.nodes;
+        let mut stack = [0u32; 64];
+        let mut sp = usize::from(!nodes.is_empty());
+        while sp > 0 {
+            sp -= 1;
+            let node = nodes[stack[sp] as usize];
+            if !meets(&node.bounds) {
+                continue;
+            }
+            if node.count > 0 {
+                let items =
+                    &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
+                out.extend(
+                    items
+                        .iter()
+                        .filter(|&&zi| meets(&self.zones[zi as usize].bounds)),
+                );
+            } else if sp + 2 <= stack.len() {
+                stack[sp] = node.first + 1;
+                stack[sp + 1] = node.first;
+                sp += 2;
+            } else {
+                return false;
+            }
+            if out.len() > max {
+                return false;
+            }
+        }
+        out.len() <= max
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,

@@ -22,15 +22,41 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use sv_geom::{Frustum, Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
 
-/// A worker's memory: ray scratch, a tile's candidate zones, and the same
-/// sorted by distance.
-type Workspace = (Scratch, Vec<u32>, Vec<(f64, u32)>);
+/// Above this many candidate zones a tile's shadow rays walk the hierarchy.
+const MAX_SHADOW_ZONES: usize = 64;
+
+/// A worker's memory, reused from tile to tile.
+struct Workspace {
+    /// Ray scratch.
+    s: Scratch,
+    /// The tile's candidate zones.
+    cands: Vec<u32>,
+    /// The same with a lower bound of their entry distance, sorted.
+    sorted: Vec<(f64, u32)>,
+    /// Every primary ray of the tile and its hit.
+    hits: Vec<(Ray, Option<Hit>)>,
+    /// Per light, the zones the tile's shadow rays may meet (`None`: too
+    /// many, walk the hierarchy).
+    shadow: Vec<Option<Vec<u32>>>,
+}
+
+impl Workspace {
+    fn new(p: &Prepared, lights: usize) -> Workspace {
+        Workspace {
+            s: Scratch::new(p),
+            cands: Vec::new(),
+            sorted: Vec::new(),
+            hits: Vec::new(),
+            shadow: vec![None; lights],
+        }
+    }
+}
 
 /// Tiles are TILE×TILE pixels.
 const TILE: usize = 16;
 /// Above this many candidate zones a tile's rays walk the hierarchy.
 const MAX_TILE_ZONES: usize = 48;
-use sv_math::{DVec3, Ray};
+use sv_math::{Aabb, DVec3, Ray};
 use sv_scene::{Background, Camera, Light, LightKind, Scene};
 
 /// Picture settings.
@@ -131,12 +157,25 @@ impl Renderer {
 
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
+        self.shade_with(ray, hit, shadows, None, s)
+    }
+
+    /// [`Renderer::shade`], with for each light the zones its shadow rays
+    /// from this tile may meet (`None` for a light: walk the hierarchy).
+    fn shade_with(
+        &self,
+        ray: &Ray,
+        hit: &Hit,
+        shadows: bool,
+        sets: Option<&[Option<Vec<u32>>]>,
+        s: &mut Scratch,
+    ) -> [f64; 3] {
         let p = ray.at(hit.t);
         let n = self.prepared.normal(hit, ray);
         let (k, colour) = self.looks[hit.region as usize];
         let mut sum = [0.0; 3];
         let eps = 10.0 * self.prepared.tolerance();
-        for l in &self.lights {
+        for (li, l) in self.lights.iter().enumerate() {
             let (to_light, dist, fall) = match l.kind {
                 LightKind::Parallel { dir } => (-dir.normalize(), f64::INFINITY, 1.0),
                 LightKind::Point { pos, decay } => {
@@ -149,8 +188,18 @@ impl Renderer {
             if cos <= 0.0 {
                 continue;
             }
-            if shadows && self.prepared.occluded(&Ray::new(p, to_light), eps, dist, s) {
-                continue;
+            if shadows {
+                let shadow = Ray::new(p, to_light);
+                let skip = self.prepared.shadow_skip(hit);
+                let blocked = match sets.and_then(|v| v[li].as_ref()) {
+                    Some(zones) => self
+                        .prepared
+                        .occluded_in(zones, skip, &shadow, eps, dist, s),
+                    None => self.prepared.occluded(&shadow, eps, dist, skip, s),
+                };
+                if blocked {
+                    continue;
+                }
             }
             let e = l.intensity * k * cos * fall;
             for (acc, lc) in sum.iter_mut().zip(l.colour) {
@@ -172,12 +221,13 @@ impl Renderer {
         // One working memory per worker thread, made once: a `Scratch` is
         // sized by the body count, too big to make for every piece of work.
         let pool: Vec<Mutex<Workspace>> = (0..rayon::current_num_threads())
-            .map(|_| Mutex::new((Scratch::new(&self.prepared), Vec::new(), Vec::new())))
+            .map(|_| Mutex::new(Workspace::new(&self.prepared, self.lights.len())))
             .collect();
         let mine = || {
             let i = rayon::current_thread_index().unwrap_or(0) % pool.len();
             pool[i].lock().unwrap_or_else(|e| e.into_inner())
         };
+        let parallel = ortho.then(|| self.camera.dir.normalize());
         frame
             .rgb
             .par_chunks_mut(w * TILE)
@@ -185,61 +235,105 @@ impl Renderer {
             .enumerate()
             .for_each(|(band, (rgb, alpha))| {
                 let mut guard = mine();
-                let (s, cands, sorted) = &mut *guard;
+                let ws = &mut *guard;
                 let y0 = band * TILE;
                 let rows = rgb.len() / w;
                 for x0 in (0..w).step_by(TILE) {
                     let x1 = (x0 + TILE).min(w);
-                    // Zones that any ray of this tile may meet; the
-                    // answer for each ray is the same as a full search.
+                    // Zones that any ray of this tile may meet, each with a
+                    // lower bound of where the rays can enter it: a ray
+                    // stops at the first zone that cannot come nearer than
+                    // its best hit. The answer is that of a full search.
                     let corners = [(x0, y0), (x1, y0), (x1, y0 + rows), (x0, y0 + rows)]
                         .map(|(x, y)| gen.ray(x as f64, y as f64));
                     let few = self.prepared.frustum_zones(
                         &Frustum::from_corners(corners),
                         MAX_TILE_ZONES,
-                        cands,
+                        &mut ws.cands,
                     );
-                    // A lower bound of where the tile's rays can enter
-                    // each zone lets a ray stop at the first zone that
-                    // cannot come nearer than its best hit.
-                    let parallel = ortho.then(|| self.camera.dir.normalize());
                     self.prepared
-                        .by_distance(cands, self.camera.eye, parallel, sorted);
+                        .by_distance(&ws.cands, self.camera.eye, parallel, &mut ws.sorted);
+                    // Primary rays of the whole tile first.
+                    ws.hits.clear();
                     for yy in 0..rows {
                         for x in x0..x1 {
-                            let i = yy * w + x;
                             let (fx, fy) = (x as f64, (y0 + yy) as f64);
-                            let mut acc = [0.0f64; 3];
-                            let mut cover = 0.0;
                             for sy in 0..n {
                                 for sx in 0..n {
                                     let ray = gen.ray(
                                         fx + (sx as f64 + 0.5) / n as f64,
                                         fy + (sy as f64 + 0.5) / n as f64,
                                     );
-                                    let hit = if few && cands.is_empty() {
+                                    let hit = if few && ws.cands.is_empty() {
                                         None
                                     } else if few {
                                         self.prepared.first_hit_in(
-                                            sorted,
+                                            &ws.sorted,
                                             &ray,
                                             0.0,
                                             f64::INFINITY,
-                                            s,
+                                            &mut ws.s,
                                         )
                                     } else {
-                                        self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
+                                        self.prepared.first_hit(&ray, 0.0, f64::INFINITY, &mut ws.s)
                                     };
-                                    let c = match hit {
-                                        Some(hit) => {
-                                            cover += 1.0;
-                                            self.shade(&ray, &hit, st.shadows, s)
-                                        }
-                                        None => self.background,
-                                    };
-                                    for (a, v) in acc.iter_mut().zip(c) {
-                                        *a += v;
+                                    ws.hits.push((ray, hit));
+                                }
+                            }
+                        }
+                    }
+                    // Then, per light, the zones the tile's shadow rays may
+                    // meet: they start in the box of the tile's hit points.
+                    let any_hit = ws.hits.iter().any(|(_, h)| h.is_some());
+                    if st.shadows && any_hit {
+                        let from = Aabb::from_points(
+                            ws.hits.iter().filter_map(|(r, h)| h.map(|h| r.at(h.t))),
+                        );
+                        for (l, set) in self.lights.iter().zip(ws.shadow.iter_mut()) {
+                            let v = set.get_or_insert_with(Vec::new);
+                            let ok = match l.kind {
+                                LightKind::Parallel { dir } => self.prepared.swept_zones(
+                                    &from,
+                                    Some(-dir.normalize()),
+                                    MAX_SHADOW_ZONES,
+                                    v,
+                                ),
+                                LightKind::Point { pos, .. } => self.prepared.swept_zones(
+                                    &from.including(pos),
+                                    None,
+                                    MAX_SHADOW_ZONES,
+                                    v,
+                                ),
+                            };
+                            if !ok {
+                                *set = None;
+                            }
+                        }
+                    }
+                    let mut k = 0;
+                    for yy in 0..rows {
+                        for x in x0..x1 {
+                            let i = yy * w + x;
+                            let mut acc = [0.0f64; 3];
+                            let mut cover = 0.0;
+                            for _ in 0..n * n {
+                                let (ray, hit) = ws.hits[k];
+                                k += 1;
+                                let c = match hit {
+                                    Some(hit) => {
+                                        cover += 1.0;
+                                        self.shade_with(
+                                            &ray,
+                                            &hit,
+                                            st.shadows,
+                                            Some(&ws.shadow),
+                                            &mut ws.s,
+                                        )
                                     }
+                                    None => self.background,
+                                };
+                                for (a, v) in acc.iter_mut().zip(c) {
+                                    *a += v;
                                 }
                             }
                             let inv = 1.0 / (n * n) as f64;
@@ -260,7 +354,7 @@ impl Renderer {
                 .enumerate()
                 .for_each(|(y, ((region, depth), normal))| {
                     let mut guard = mine();
-                    let s = &mut guard.0;
+                    let s = &mut guard.s;
                     for x in 0..w {
                         let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
                         if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {

@@ -571,15 +571,8 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
                     ));
                 }
             }
-            let planes = (0..3)
-                .flat_map(|a| {
-                    let mut n = DVec3::ZERO;
-                    n[a] = 1.0;
-                    [Plane { n: -n, d: -min[a] }, Plane { n, d: max[a] }]
-                })
-                .collect();
             let bb = Aabb::new(min, max);
-            return Ok((Shape::Polyhedron(Polyhedron::new(planes, bb)), bb));
+            return Ok((Shape::Rpp(crate::shape::Rpp::new(bb)), bb));
         }
         Box => {
             let (a, bb, c) = (

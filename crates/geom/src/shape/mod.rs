@@ -12,6 +12,7 @@ mod mesh;
 mod poly;
 pub(crate) mod polyhedron;
 mod quadric;
+mod rpp;
 mod sphere;
 mod torus;
 
@@ -19,6 +20,7 @@ pub use cone::{Cone, GeneralCone};
 pub use mesh::Mesh;
 pub use polyhedron::{Plane, Polyhedron};
 pub use quadric::{Ellipsoid, Quadric};
+pub use rpp::Rpp;
 pub use sphere::Sphere;
 pub use torus::Torus;
 
@@ -49,7 +51,9 @@ pub enum Shape {
     Cone(Cone),
     /// TGC whose top ellipse is not similar to the base (quartic surface).
     GeneralCone(GeneralCone),
-    /// Convex polyhedron or half-space (RPP, BOX, RAW, ARB*, HAF, PLA, XYP…).
+    /// Axis-aligned box (RPP).
+    Rpp(Rpp),
+    /// Convex polyhedron or half-space (BOX, RAW, ARB*, HAF, PLA, XYP…).
     Polyhedron(Polyhedron),
     /// General quadric (QUA, infinite cylinders).
     Quadric(Quadric),
@@ -69,6 +73,7 @@ impl Shape {
             Shape::Ellipsoid(s) => s.shoot(ray, out),
             Shape::Cone(s) => s.shoot(ray, out),
             Shape::GeneralCone(s) => s.shoot(ray, out),
+            Shape::Rpp(s) => s.shoot(ray, out),
             Shape::Polyhedron(s) => s.shoot(ray, out),
             Shape::Quadric(s) => s.shoot(ray, out),
             Shape::Torus(s) => s.shoot(ray, out),
@@ -83,6 +88,7 @@ impl Shape {
             Shape::Ellipsoid(s) => s.normal(p),
             Shape::Cone(s) => s.normal(face, p),
             Shape::GeneralCone(s) => s.normal(face, p),
+            Shape::Rpp(s) => s.normal(face),
             Shape::Polyhedron(s) => s.normal(face),
             Shape::Quadric(s) => s.normal(p),
             Shape::Torus(s) => s.normal(p),
@@ -98,6 +104,7 @@ impl Shape {
             Shape::Ellipsoid(s) => s.contains(p),
             Shape::Cone(s) => s.contains(p),
             Shape::GeneralCone(s) => s.contains(p),
+            Shape::Rpp(s) => s.contains(p),
             Shape::Polyhedron(s) => s.contains(p),
             Shape::Quadric(s) => s.contains(p),
             Shape::Torus(s) => s.contains(p),
@@ -112,6 +119,7 @@ impl Shape {
             Shape::Ellipsoid(s) => s.bounds(),
             Shape::Cone(s) => s.bounds(),
             Shape::GeneralCone(s) => s.bounds(),
+            Shape::Rpp(s) => s.bounds(),
             Shape::Polyhedron(s) => s.bounds(),
             Shape::Quadric(_) => Aabb::INFINITE,
             Shape::Torus(s) => s.bounds(),

@@ -20,6 +20,9 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Shoot(a) => shoot(a),
         Command::Bodies => bodies(),
         Command::Bench(a) => bench(a),
+        Command::Check(a) => crate::check_cmd::check(a),
+        Command::Slice(a) => crate::check_cmd::slice(a),
+        Command::Volume(a) => crate::check_cmd::volume(a),
     }
 }
 
@@ -154,6 +157,9 @@ fn render(a: RenderArgs) -> Result<ExitCode, CliError> {
                 px[c] = geom + (1.0 - al) * bg[c];
             }
         }
+    }
+    if a.overlaps {
+        crate::check_cmd::paint_overlaps(&scene, &r, &mut frame, &pool)?;
     }
     let opts = WriteOptions {
         sixteen_bit: a.sixteen_bit,

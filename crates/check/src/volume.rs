@@ -317,7 +317,6 @@ pub fn volumes(model: &Model, opts: &VolumeOptions) -> Result<VolumeReport, Chec
                 continue;
             }
             let b = model.region_bounds(r);
-            let b = b.padded(1e-6 * b.size().length().max(1e-12));
             let (mut v, mut m) = (0.0, DVec3::ZERO);
             for (_, dv, dm) in batch(
                 model,

@@ -1,0 +1,227 @@
+use crate::model;
+use sv_check::{check, CheckOptions, UniverseChoice};
+use sv_math::DVec3;
+
+const SPHERES: &str = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.5,0,0) 1
+REGION A = +a
+REGION B = +b
+";
+
+#[test]
+fn two_intersecting_spheres_are_reported_with_pair_point_and_volume() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert_eq!(r.overlaps.len(), 1, "{}", r.to_table());
+    let o = &r.overlaps[0];
+    assert_eq!(o.regions, ["A".to_string(), "B".to_string()]);
+    assert_eq!(o.region_indices, [0, 1]);
+    let p = DVec3::from_array(o.problem.point);
+    assert!(p.length() < 1.0 && (p - DVec3::new(1.5, 0.0, 0.0)).length() < 1.0, "{p}");
+    // The lens is 0.5 thick along the line of centres and 2·√(1 − 0.75²)
+    // across: the longest stretch is nearly that.
+    let across = 2.0 * (1.0f64 - 0.5625).sqrt();
+    assert!(o.problem.max_length <= across + 1e-9);
+    assert!(o.problem.max_length > across - 0.02, "{}", o.problem.max_length);
+    // Lens volume π(4R+d)(2R−d)²/12.
+    let lens = std::f64::consts::PI * 5.5 * 0.25 / 12.0;
+    assert!((o.problem.volume - lens).abs() < 0.02 * lens, "{} vs {lens}", o.problem.volume);
+    assert!(!r.is_clean());
+    assert!(r.voids.is_empty() && r.outside.is_empty());
+}
+
+#[test]
+fn cylinder_poking_through_a_box_is_found_inside_both() {
+    let text = "
+BODY box RPP -1 1 -1 1 -1 1
+BODY rod RCC (0.2,0.1,-2) (0,0,4) 0.3
+BODY far SPH (5,5,5) 0.5
+REGION BLOCK = +box
+REGION ROD = +rod
+REGION BALL = +far
+";
+    let m = model(text, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert_eq!(r.overlaps.len(), 1, "{}", r.to_table());
+    let o = &r.overlaps[0];
+    assert_eq!(o.regions, ["BLOCK".to_string(), "ROD".to_string()]);
+    let p = DVec3::from_array(o.problem.point);
+    assert!(p.abs().max_element() <= 1.0 + 1e-9, "{p}");
+    assert!(((p.x - 0.2).powi(2) + (p.y - 0.1).powi(2)).sqrt() <= 0.3 + 1e-9, "{p}");
+    // Along z the rod crosses the whole box.
+    assert!((o.problem.max_length - 2.0).abs() < 1e-6);
+    let v = std::f64::consts::PI * 0.09 * 2.0;
+    assert!((o.problem.volume - v).abs() < 0.03 * v, "{} vs {v}", o.problem.volume);
+
+    // Subtracting the rod from the block removes the overlap.
+    let fixed = text.replace("REGION BLOCK = +box", "REGION BLOCK = +box -rod");
+    let r = check(&model(&fixed, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+}
+
+#[test]
+fn touching_faces_are_not_overlaps() {
+    // Boxes sharing the face x = 1, a cylinder standing on the top face,
+    // and a sphere touching the side face at one point; random rays too.
+    let text = "
+BODY a RPP 0 1 0 1 0 1
+BODY b RPP 1 2 0 1 0 1
+BODY c RCC (0.5,0.5,1) (0,0,1) 0.4
+BODY s SPH (2.5,0.5,0.5) 0.5
+REGION A = +a
+REGION B = +b
+REGION C = +c
+REGION S = +s
+";
+    let m = model(text, UniverseChoice::None);
+    let r = check(
+        &m,
+        &CheckOptions {
+            random: 5000,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+    assert_eq!(r.random_rays, 5000);
+    // A fine grid whose rays fall exactly on the shared faces' lines is
+    // still clean.
+    let r = check(
+        &m,
+        &CheckOptions {
+            spacing: Some(0.05),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+}
+
+#[test]
+fn tolerance_hides_thin_overlaps_only() {
+    // The boxes overlap by 0.001 in x.
+    let text = "
+BODY a RPP 0 1.001 0 1 0 1
+BODY b RPP 1 2 0 1 0 1
+REGION A = +a
+REGION B = +b
+";
+    let m = model(text, UniverseChoice::None);
+    let loose = check(
+        &m,
+        &CheckOptions {
+            tolerance: Some(0.01),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(loose.is_clean(), "{}", loose.to_table());
+    let strict = check(
+        &m,
+        &CheckOptions {
+            tolerance: Some(1e-6),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(strict.overlaps.len(), 1, "{}", strict.to_table());
+    let o = &strict.overlaps[0].problem;
+    assert!(o.point[0] > 1.0 && o.point[0] < 1.001, "{:?}", o.point);
+    // The grid is coarser than the sliver: only rays along x see it, each
+    // crossing its 0.001 thickness (so the volume estimate, which assumes
+    // the three axes see the same, is a third of the truth).
+    assert!((o.max_length - 0.001).abs() < 1e-9, "{}", o.max_length);
+    assert_eq!(o.hits, 100 * 100);
+}
+
+#[test]
+fn pairs_are_sorted_by_severity() {
+    let text = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.9,0,0) 1
+BODY c SPH (0,1.2,0) 1
+REGION A = +a
+REGION B = +b
+REGION C = +c
+";
+    let r = check(&model(text, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    let names: Vec<_> = r.overlaps.iter().map(|o| o.regions.join("×")).collect();
+    assert_eq!(names[0], "A×C", "{}", r.to_table());
+    assert!(names.contains(&"A×B".to_string()));
+    for w in r.overlaps.windows(2) {
+        assert!(w[0].problem.total_length >= w[1].problem.total_length);
+    }
+}
+
+#[test]
+fn json_report_has_the_documented_shape() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+    for key in [
+        "unit",
+        "regions",
+        "bounds",
+        "spacing",
+        "grid_rays",
+        "random_rays",
+        "tolerance",
+        "universe",
+        "overlaps",
+        "voids",
+        "outside",
+        "seconds",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    let o = &v["overlaps"][0];
+    assert_eq!(o["regions"], serde_json::json!(["A", "B"]));
+    assert_eq!(o["point"].as_array().unwrap().len(), 3);
+    for key in ["total_length", "max_length", "hits", "volume", "region_indices"] {
+        assert!(o.get(key).is_some(), "missing overlaps[].{key}");
+    }
+    assert!(v["universe"].is_null());
+    assert_eq!(v["regions"], 2);
+}
+
+#[test]
+fn bad_options_are_errors_not_panics() {
+    let m = model(SPHERES, UniverseChoice::None);
+    for o in [
+        CheckOptions {
+            spacing: Some(0.0),
+            ..Default::default()
+        },
+        CheckOptions {
+            spacing: Some(1e-6),
+            ..Default::default()
+        },
+        CheckOptions {
+            tolerance: Some(-1.0),
+            ..Default::default()
+        },
+    ] {
+        assert!(check(&m, &o).is_err());
+    }
+}
+
+#[test]
+fn pictures_mark_pixels_that_see_an_overlap() {
+    let m = model(SPHERES, UniverseChoice::None);
+    // Orthographic rays down -z over x in [-1.5, 3], y = 0.
+    let ov = sv_check::overlap_pixels(&m, 90, 1, 1e-6, |x, _| {
+        sv_math::Ray::new(
+            DVec3::new(-1.5 + 0.05 * (x as f64 + 0.5), 0.0, 5.0),
+            -DVec3::Z,
+        )
+    });
+    for (x, hit) in ov.mask.iter().enumerate() {
+        let px = -1.5 + 0.05 * (x as f64 + 0.5);
+        let expect = px > 0.5 && px < 1.0;
+        assert_eq!(*hit, expect, "x = {px}");
+    }
+    assert_eq!(ov.pairs.len(), 1);
+    assert_eq!(ov.pairs[0].regions, ["A".to_string(), "B".to_string()]);
+    assert_eq!(ov.pairs[0].pixels, 10);
+}

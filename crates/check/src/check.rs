@@ -457,7 +457,7 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let mut all: HashMap<FindingKind, Acc> = HashMap::new();
     for p in parts {
         let mut keys: Vec<_> = p.into_iter().collect();
-        keys.sort_by(|a, b| a.0.cmp(&b.0));
+        keys.sort_by_key(|a| a.0);
         for (k, a) in keys {
             all.entry(k).and_modify(|x| x.merge(&a)).or_insert(a);
         }

@@ -36,7 +36,8 @@ where
     F: Fn(u32, u32) -> Ray + Sync,
 {
     let (w, h) = (width as usize, height as usize);
-    let rows: Vec<(Vec<bool>, BTreeMap<(u32, u32), (u64, f64)>)> = (0..h)
+    type Row = (Vec<bool>, BTreeMap<(u32, u32), (u64, f64)>);
+    let rows: Vec<Row> = (0..h)
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),
@@ -52,7 +53,7 @@ where
                             pairs.push(((a, b), f.t1 - f.t0));
                         }
                     }
-                    pairs.sort_by(|a, b| a.0.cmp(&b.0));
+                    pairs.sort_by_key(|a| a.0);
                     let mut last = None;
                     for (k, len) in pairs {
                         *m = true;

@@ -291,11 +291,9 @@ pub fn volumes(model: &Model, opts: &VolumeOptions) -> Result<VolumeReport, Chec
         for (st, (v, m)) in stats.iter_mut().zip(sums) {
             st.add(v, m);
         }
-        let pending = (0..nr).any(|r| {
-            !small[r]
-                && !stats[r].converged(rel, min)
-                && !(stats[r].n >= min && stats[r].mean == 0.0)
-        });
+        // Regions never hit after the minimum are empty or too thin to see.
+        let settled = |st: &Stats| st.converged(rel, min) || (st.n >= min && st.mean == 0.0);
+        let pending = (0..nr).any(|r| !small[r] && !settled(&stats[r]));
         let more_small = (0..nr).any(|r| small[r] && stats[r].n < min);
         if (!pending && !more_small) || rays + per_global > global_budget {
             break;

@@ -3,8 +3,8 @@
 
 mod overlaps;
 mod slices;
-mod volumes;
 mod voids;
+mod volumes;
 
 use sv_check::{Model, UniverseChoice};
 use sv_formats::{load_source, Format, LoadOptions, SourceFile};

@@ -18,15 +18,26 @@ fn two_intersecting_spheres_are_reported_with_pair_point_and_volume() {
     assert_eq!(o.regions, ["A".to_string(), "B".to_string()]);
     assert_eq!(o.region_indices, [0, 1]);
     let p = DVec3::from_array(o.problem.point);
-    assert!(p.length() < 1.0 && (p - DVec3::new(1.5, 0.0, 0.0)).length() < 1.0, "{p}");
+    assert!(
+        p.length() < 1.0 && (p - DVec3::new(1.5, 0.0, 0.0)).length() < 1.0,
+        "{p}"
+    );
     // The lens is 0.5 thick along the line of centres and 2·√(1 − 0.75²)
     // across: the longest stretch is nearly that.
     let across = 2.0 * (1.0f64 - 0.5625).sqrt();
     assert!(o.problem.max_length <= across + 1e-9);
-    assert!(o.problem.max_length > across - 0.02, "{}", o.problem.max_length);
+    assert!(
+        o.problem.max_length > across - 0.02,
+        "{}",
+        o.problem.max_length
+    );
     // Lens volume π(4R+d)(2R−d)²/12.
     let lens = std::f64::consts::PI * 5.5 * 0.25 / 12.0;
-    assert!((o.problem.volume - lens).abs() < 0.02 * lens, "{} vs {lens}", o.problem.volume);
+    assert!(
+        (o.problem.volume - lens).abs() < 0.02 * lens,
+        "{} vs {lens}",
+        o.problem.volume
+    );
     assert!(!r.is_clean());
     assert!(r.voids.is_empty() && r.outside.is_empty());
 }
@@ -48,15 +59,26 @@ REGION BALL = +far
     assert_eq!(o.regions, ["BLOCK".to_string(), "ROD".to_string()]);
     let p = DVec3::from_array(o.problem.point);
     assert!(p.abs().max_element() <= 1.0 + 1e-9, "{p}");
-    assert!(((p.x - 0.2).powi(2) + (p.y - 0.1).powi(2)).sqrt() <= 0.3 + 1e-9, "{p}");
+    assert!(
+        ((p.x - 0.2).powi(2) + (p.y - 0.1).powi(2)).sqrt() <= 0.3 + 1e-9,
+        "{p}"
+    );
     // Along z the rod crosses the whole box.
     assert!((o.problem.max_length - 2.0).abs() < 1e-6);
     let v = std::f64::consts::PI * 0.09 * 2.0;
-    assert!((o.problem.volume - v).abs() < 0.03 * v, "{} vs {v}", o.problem.volume);
+    assert!(
+        (o.problem.volume - v).abs() < 0.03 * v,
+        "{} vs {v}",
+        o.problem.volume
+    );
 
     // Subtracting the rod from the block removes the overlap.
     let fixed = text.replace("REGION BLOCK = +box", "REGION BLOCK = +box -rod");
-    let r = check(&model(&fixed, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    let r = check(
+        &model(&fixed, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
     assert!(r.is_clean(), "{}", r.to_table());
 }
 
@@ -178,7 +200,13 @@ fn json_report_has_the_documented_shape() {
     let o = &v["overlaps"][0];
     assert_eq!(o["regions"], serde_json::json!(["A", "B"]));
     assert_eq!(o["point"].as_array().unwrap().len(), 3);
-    for key in ["total_length", "max_length", "hits", "volume", "region_indices"] {
+    for key in [
+        "total_length",
+        "max_length",
+        "hits",
+        "volume",
+        "region_indices",
+    ] {
         assert!(o.get(key).is_some(), "missing overlaps[].{key}");
     }
     assert!(v["universe"].is_null());

@@ -47,7 +47,11 @@ fn section_through_overlapping_spheres() {
     let a = s.legend.iter().find(|e| e.label == "A").unwrap();
     let lens = 2.0 * 0.75f64.acos() - 0.75 * 1.75f64.sqrt();
     let expect = std::f64::consts::PI - lens;
-    assert!((a.area - expect).abs() < 0.03 * expect, "{} vs {expect}", a.area);
+    assert!(
+        (a.area - expect).abs() < 0.03 * expect,
+        "{} vs {expect}",
+        a.area
+    );
     assert!(s.void.is_none());
 }
 
@@ -107,7 +111,11 @@ REGION CORE  = +s
     .unwrap();
     let v = s.void.as_ref().expect("void in the picture");
     let exact = 9.0 - std::f64::consts::PI;
-    assert!((v.area - exact).abs() < 0.05 * exact, "{} vs {exact}", v.area);
+    assert!(
+        (v.area - exact).abs() < 0.05 * exact,
+        "{} vs {exact}",
+        v.area
+    );
     assert_eq!(class_at(&s, 0.0, 0.0), 2);
     assert_eq!(class_at(&s, 1.25, 1.25), Slice::VOID);
     assert_eq!(class_at(&s, 1.8, 0.0), 1);

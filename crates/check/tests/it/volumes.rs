@@ -197,7 +197,10 @@ fn masses_use_density_and_units() {
     let r = measure(text);
     let m = r.regions[0].mass_g.unwrap();
     let expect = 2.0 * 2.54f64.powi(3);
-    assert!((m - expect).abs() <= 4.0 * r.regions[0].mass_error_g.unwrap() + 1e-9, "{m}");
+    assert!(
+        (m - expect).abs() <= 4.0 * r.regions[0].mass_error_g.unwrap() + 1e-9,
+        "{m}"
+    );
     assert!(r.regions[1].mass_g.is_none());
     let v: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
     assert!(v["regions"][0]["mass_g"].is_number());

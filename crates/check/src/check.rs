@@ -13,10 +13,13 @@ use sv_math::{DVec3, Ray};
 /// Options for [`check`].
 #[derive(Clone, Debug)]
 pub struct CheckOptions {
-    /// Distance between neighbouring grid rays; default: the longest side
-    /// of the bounds divided by [`CheckOptions::rays_per_side`].
+    /// Distance between neighbouring grid rays; default: the spacing that
+    /// gives as many rays as a cube gets with [`CheckOptions::rays_per_side`]
+    /// rays per side (3 × 200² = 120 000 by default), so elongated models
+    /// are not sampled coarsely across their short sides.
     pub spacing: Option<f64>,
-    /// Grid rays along the longest side when no spacing is given (200).
+    /// Grid rays per side of the equivalent cube when no spacing is given
+    /// (200).
     pub rays_per_side: u32,
     /// Overlaps and voids no longer than this along a ray are ignored;
     /// default [`default_tolerance`].
@@ -386,8 +389,14 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
                     "rays per side must be at least 1".into(),
                 ));
             }
-            if longest > 0.0 {
-                longest / opts.rays_per_side as f64
+            // As many rays as a cube with `rays_per_side` per side gets:
+            // Σ face areas / d² = 3 n².
+            let areas = size.x * size.y + size.y * size.z + size.z * size.x;
+            let n = opts.rays_per_side as f64;
+            if areas > 0.0 {
+                (areas / (3.0 * n * n)).sqrt()
+            } else if longest > 0.0 {
+                longest / n
             } else {
                 1.0
             }

@@ -36,8 +36,8 @@ pub struct UniverseArgs {
 pub struct CheckArgs {
     /// Scene, deck or FLUKA input.
     pub scene: PathBuf,
-    /// Distance between grid rays (model units; default: the longest side
-    /// of the bounding box / 200).
+    /// Distance between grid rays (model units; default: about 120 000
+    /// rays in all, as a cube with 200 rays per side).
     #[arg(long, value_name = "D")]
     pub spacing: Option<f64>,
     /// Extra rays in random directions.

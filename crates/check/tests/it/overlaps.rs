@@ -143,6 +143,7 @@ REGION B = +b
         &m,
         &CheckOptions {
             tolerance: Some(1e-6),
+            spacing: Some(0.01),
             ..Default::default()
         },
     )
@@ -252,4 +253,18 @@ fn pictures_mark_pixels_that_see_an_overlap() {
     assert_eq!(ov.pairs.len(), 1);
     assert_eq!(ov.pairs[0].regions, ["A".to_string(), "B".to_string()]);
     assert_eq!(ov.pairs[0].pixels, 10);
+}
+
+#[test]
+fn default_spacing_follows_the_model_shape() {
+    // A long thin rod gets as many rays as a cube would, not 200 along its
+    // length and 2 across.
+    let text = "BODY r RPP 0 100 0 1 0 1\nREGION R = +r\n";
+    let r = check(&model(text, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    assert!(r.spacing < 0.1, "{}", r.spacing);
+    assert!(
+        r.grid_rays > 100_000 && r.grid_rays < 140_000,
+        "{}",
+        r.grid_rays
+    );
 }

@@ -37,6 +37,7 @@
 mod analyse;
 mod check;
 mod colour;
+mod legend;
 mod model;
 mod overlay;
 mod rng;
@@ -47,6 +48,7 @@ pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use check::{check, CheckOptions, Problem, Report, UniverseInfo, Void};
 pub use check::{Outside, Overlap};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
+pub use legend::with_legend;
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{overlap_pixels, OverlapPixels, PairSeen};
 pub use slice::{slice, LegendEntry, Plane, Slice, SliceOptions};

@@ -79,7 +79,8 @@ pub struct SliceOptions {
     /// The plane.
     pub plane: Plane,
     /// Width and height of the view in model units; default: the model's
-    /// bounds projected on the plane, with a 4% margin.
+    /// bounds projected on the plane, with a 4% margin on each side, widened
+    /// to the aspect of `size` when that is given (square pixels).
     pub extent: Option<(f64, f64)>,
     /// Raster size; default: 800 pixels on the long side of the extent.
     pub size: Option<(u32, u32)>,
@@ -194,6 +195,19 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
                 (((800.0 * ew / eh).round() as u32).max(1), 800)
             }
         }
+    };
+    // A size without an extent keeps pixels square: the default extent
+    // grows to the picture's aspect.
+    let (ew, eh) = match (opts.extent, opts.size) {
+        (None, Some(_)) => {
+            let aspect = w as f64 / h as f64;
+            if ew / eh < aspect {
+                (eh * aspect, eh)
+            } else {
+                (ew, ew / aspect)
+            }
+        }
+        _ => (ew, eh),
     };
     let (dx, dy) = (ew / w as f64, eh / h as f64);
     let pad = 0.01 * ew + dx;

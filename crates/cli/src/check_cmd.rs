@@ -76,12 +76,16 @@ pub struct SliceArgs {
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
     /// Output picture (.png or .ppm); default: the scene's name with
-    /// .slice.png. The legend goes beside it as .legend.json.
+    /// .slice.png. The section is drawn above a legend strip; the legend
+    /// also goes beside it as .legend.json.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Print the legend as JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Leave the legend strip (names and swatches) off the picture.
+    #[arg(long)]
+    pub no_legend: bool,
     #[command(flatten)]
     pub check: UniverseArgs,
     #[command(flatten)]
@@ -304,10 +308,15 @@ pub fn slice(a: SliceArgs) -> Result<ExitCode, CliError> {
         "overlaps": s.overlaps,
         "void": s.void,
     });
+    let (pw, ph, pixels) = if a.no_legend {
+        (s.width, s.height, s.rgb.clone())
+    } else {
+        sv_check::with_legend(&s)
+    };
     let px = Pixels {
-        width: s.width,
-        height: s.height,
-        rgb: &s.rgb,
+        width: pw,
+        height: ph,
+        rgb: &pixels,
         alpha: None,
     };
     let werr = |e: sv_output::WriteError| CliError::Runtime(format!("error: {e}"));

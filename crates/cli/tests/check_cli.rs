@@ -93,8 +93,28 @@ fn slice_writes_picture_and_legend() {
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
+    // The legend strip is drawn under the 120×60 section.
     let img = image::open(&out).unwrap().into_rgb8();
-    assert_eq!(img.dimensions(), (120, 60));
+    assert_eq!(img.width(), 120);
+    assert!(img.height() > 60);
+    let bare = d.join("bare.png");
+    let o2 = run(bin()
+        .args([
+            "slice",
+            "--plane",
+            "z=0",
+            "--size",
+            "120x60",
+            "--no-legend",
+            "-o",
+        ])
+        .arg(&bare)
+        .arg(&bad));
+    assert_eq!(o2.status.code(), Some(0));
+    assert_eq!(
+        image::open(&bare).unwrap().into_rgb8().dimensions(),
+        (120, 60)
+    );
     // Some pixels are the overlap's magenta.
     assert!(img.pixels().any(|p| p.0 == [255, 0, 255]));
     let legend: serde_json::Value =

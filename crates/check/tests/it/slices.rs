@@ -132,3 +132,21 @@ fn bad_slice_options_are_errors() {
     assert!(slice(&m, &o).is_err());
     assert!(Plane::new(DVec3::ZERO, DVec3::ZERO).is_none());
 }
+
+#[test]
+fn a_size_alone_keeps_pixels_square() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let s = slice(
+        &m,
+        &SliceOptions {
+            plane: Plane::axis(2, 0.0),
+            extent: None,
+            size: Some((300, 300)),
+            tolerance: None,
+        },
+    )
+    .unwrap();
+    assert!((s.extent.0 - s.extent.1).abs() < 1e-9, "{:?}", s.extent);
+    // The box is 3.5 × 2: the view is 3.5 · 1.08 square.
+    assert!((s.extent.0 - 3.5 * 1.08).abs() < 1e-9);
+}

@@ -1,8 +1,11 @@
 # The paper's helicopter (Figure 2): Combinatorial Geometry from simple
 # bodies. The same model as the POV-Ray baseline scene helicopter21.pov
 # (POV-Ray's left-handed y-up coordinates become our right-handed z-up:
-# (x, y, z) -> (x, z, y)). Nose along +x, main rotor mast on the z axis,
-# tail rotor axis along y through (-9.45, y, 3.1). Ground at z = 0.
+# (x, y, z) -> (x, z, y)), except that the mast stops under the hub and
+# the tail rotor hub stands clear of the fin, so the rotors share no body
+# with the airframe and can spin on their own in the film. Nose along +x,
+# main rotor mast on the z axis, tail rotor axis along y through
+# (-9.45, y, 3.1). Ground at z = 0.
 TITLE  Helicopter after Goldstein & Nagel (1971), Figure 2
 UNITS  m
 
@@ -12,11 +15,11 @@ BODY canopyb  ELLG (1.7, 0, 2.35) (1.7, 0, 0) (0, 1.1, 0) (0, 0, 1.05)
 BODY boom     TRC  (-2.4, 0, 2.3) (-6.8, 0, 0.4) 0.55 0.16             # tail boom
 BODY finb     RAW  (-9.75, -0.07, 2.5) (0.775, 0, 0) (0, 0, 2.214286) (0, 0.14, 0)
 BODY stab     RPP  -8.3 -7.6  -1.3 1.3  2.5 2.62                        # horizontal stabiliser
-BODY mastb    RCC  (0, 0, 2.9) (0, 0, 1.1) 0.14
+BODY mastb    RCC  (0, 0, 2.9) (0, 0, 0.95) 0.14                       # ends under the hub
 BODY hubb     RCC  (0, 0, 3.85) (0, 0, 0.3) 0.42
 BODY bladea   BOX  (-5.349561183, 2.251798207, 3.94) (10.51317033, -4.90237184, 0) (0.185952035, 0.398775426, 0) (0, 0, 0.08)
 BODY bladeb   BOX  (2.251798207, 5.349561183, 3.94) (-4.90237184, -10.51317033, 0) (0.398775426, -0.185952035, 0) (0, 0, 0.08)
-BODY thub     RCC  (-9.45, 0.05, 3.1) (0, 0.33, 0) 0.16
+BODY thub     RCC  (-9.45, 0.07, 3.1) (0, 0.31, 0) 0.16                # clear of the fin
 BODY tbladea  BOX  (-8.96062178, 0.26, 2.112372055) (-1.1, 0, 1.90525589) (0.12124356, 0, 0.07) (0, 0.06, 0)
 BODY tbladeb  BOX  (-8.462372055, 0.26, 3.58937822) (-1.90525589, 0, -1.1) (-0.07, 0, 0.12124356) (0, 0.06, 0)
 BODY skidl    RCC  (-2.6, -1.25, 0.1) (5, 0, 0) 0.09
@@ -37,13 +40,13 @@ REGION door        = +fus +band +below21             COLOR 0.45 0.50 0.38 K 0.85
 REGION window      = +fus +band -below21             COLOR 0.25 0.30 0.40 K 0.85
 REGION canopy      = +canopyb -belly                 COLOR 0.35 0.45 0.60 K 0.85
 REGION tailboom    = +boom -fus -cowl                COLOR 0.55 0.60 0.45 K 0.85
-REGION fin         = +finb -boom -thub               COLOR 0.55 0.60 0.45 K 0.85
+REGION fin         = +finb -boom                     COLOR 0.55 0.60 0.45 K 0.85
 REGION stabilizer  = +stab -boom                     COLOR 0.55 0.60 0.45 K 0.85
-REGION mast        = +mastb -fus -cowl -hubb         COLOR 0.6 0.6 0.6 K 0.85
+REGION mast        = +mastb -fus -cowl               COLOR 0.6 0.6 0.6 K 0.85
 REGION hub         = +hubb                           COLOR 0.3 0.3 0.3 K 0.85
 REGION blade_a     = +bladea -hubb                   COLOR 0.2 0.2 0.2 K 0.85
 REGION blade_b     = +bladeb -hubb -bladea           COLOR 0.2 0.2 0.2 K 0.85
-REGION tailhub     = +thub -finb                     COLOR 0.3 0.3 0.3 K 0.85
+REGION tailhub     = +thub                           COLOR 0.3 0.3 0.3 K 0.85
 REGION tailblade_a = +tbladea -thub                  COLOR 0.2 0.2 0.2 K 0.85
 REGION tailblade_b = +tbladeb -thub -tbladea         COLOR 0.2 0.2 0.2 K 0.85
 REGION skid_l      = +skidl                          COLOR 0.35 0.35 0.35 K 0.85

@@ -23,6 +23,8 @@ pub enum Command {
     Bodies,
     /// Measure primary rays per second per core.
     Bench(BenchArgs),
+    /// Render a director's script to numbered PNG frames, a GIF, an MP4 and a contact sheet.
+    Film(FilmArgs),
     /// Find overlapping regions and voids (exit 1 when any are found).
     Check(crate::check_cmd::CheckArgs),
     /// Section view through a plane, coloured by region.
@@ -157,4 +159,37 @@ pub struct BenchArgs {
     /// Print JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct FilmArgs {
+    /// The director's script (.svs).
+    pub script: PathBuf,
+    /// Output folder for the frames and the film.
+    #[arg(short, long, default_value = "film")]
+    pub output: PathBuf,
+    /// Frames to render, e.g. 0..240, 240.., 100 (default: all).
+    #[arg(long, value_name = "A..B")]
+    pub frames: Option<String>,
+    /// Raster size (default: the script's SIZE).
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    /// Turn shadows off.
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Encode frames with the sRGB curve (default: linear, as stills).
+    #[arg(long)]
+    pub srgb: bool,
+    /// Skip the GIF.
+    #[arg(long)]
+    pub no_gif: bool,
+    /// Skip the MP4.
+    #[arg(long)]
+    pub no_mp4: bool,
+    /// Print what would be rendered and exit.
+    #[arg(long)]
+    pub dry_run: bool,
 }

@@ -20,13 +20,14 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Shoot(a) => shoot(a),
         Command::Bodies => bodies(),
         Command::Bench(a) => bench(a),
+        Command::Film(a) => crate::film_cmd::film(a),
         Command::Check(a) => crate::check_cmd::check(a),
         Command::Slice(a) => crate::check_cmd::slice(a),
         Command::Volume(a) => crate::check_cmd::volume(a),
     }
 }
 
-fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(n) = threads {
         if n == 0 {

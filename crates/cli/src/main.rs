@@ -7,6 +7,7 @@
 mod args;
 mod check_cmd;
 mod commands;
+mod film_cmd;
 mod load;
 
 use std::process::ExitCode;

@@ -1,1 +1,864 @@
-//! placeholder
+//! The director's language as data: named objects, axes of rotation and a
+//! timeline of changes (MOVE, TURN, AIM, ZOOM, INTENSITY, SPIN, TRACK) and
+//! shots, from which the scene at any frame is computed directly.
+//!
+//! The text form (`.svs` scripts) is read by `sv_formats::script`; this crate
+//! holds the model and its evaluation only.
+//!
+//! # Time
+//!
+//! A film is a list of [`Step`]s run top to bottom:
+//!
+//! - a change with no duration is applied at once and shoots nothing;
+//! - a change spread over N frames shoots those N frames; at frame `k`
+//!   (1…N) of the change its fraction `k/N` is done (eased when asked), so
+//!   the last frame shows the whole change;
+//! - [`Step::Together`] runs its changes over the same frames: all start on
+//!   the block's first frame and the block lasts as long as its longest
+//!   change; at every frame the changes are composed in the order written,
+//!   each at its own fraction, on top of the set-up the block started from;
+//! - [`Step::Shoot`] shoots frames with the current set-up (`SHOOT`,
+//!   `HOLD n`); [`Step::Repeat`] repeats steps.
+//!
+//! Spinning objects ([`Change::Spin`]) turn by their rate for every frame
+//! shot, whatever the step; a tracking camera ([`Change::Track`]) is
+//! re-aimed after all other changes of each frame.
+//!
+//! # Exactness
+//!
+//! [`Timeline::scene_at`] is a pure function of the frame number: it walks
+//! the steps from the start, composing each block's changes on the set-up at
+//! the start of the block (never adding frame-by-frame increments), and then
+//! applies every body's total transform once to the body of the base scene.
+//! Frame N is therefore bit-for-bit the same whether it is computed alone,
+//! in a full run, or after any other frames.
+#![warn(missing_docs)]
+
+mod model;
+
+pub use model::{AimPoint, Axis, Change, Easing, Object, Spec, Step, Target, Timed, Zoom};
+
+use sv_geom::{BodyKind, Geometry, ParamKind};
+use sv_math::{rotation_about_axis, Aabb, DAffine3, DQuat, DVec3};
+use sv_scene::{Camera, Lens, LightKind, Scene};
+
+/// Most frames a film may have.
+pub const MAX_FRAMES: usize = 1_000_000;
+/// Most blocks (changes and shots after expanding REPEATs) a film may have.
+pub const MAX_BLOCKS: usize = 1_000_000;
+
+/// Who a body belongs to, for [`DirectorError::SharedBody`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Owner {
+    /// An object (by name).
+    Object(String),
+    /// A region that is in no object and so never moves (by name).
+    Region(String),
+}
+
+/// A timeline that cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DirectorError {
+    /// An index (object, region, axis or light) points past its list.
+    #[error("{what} {index} does not exist")]
+    BadIndex {
+        /// Kind of thing (`object`, `region`, `axis`, `light`).
+        what: &'static str,
+        /// The index.
+        index: usize,
+    },
+    /// An axis with a zero (or not finite) direction.
+    #[error("axis `{name}` has no direction")]
+    BadAxis {
+        /// Axis index.
+        axis: usize,
+        /// Axis name.
+        name: String,
+    },
+    /// An object carries itself, directly or not.
+    #[error("object `{name}` contains itself")]
+    Cycle {
+        /// Object index.
+        object: usize,
+        /// Object name.
+        name: String,
+    },
+    /// An object is carried by two objects.
+    #[error("object `{name}` is contained in both `{first}` and `{second}`")]
+    TwoParents {
+        /// The carried object's index.
+        object: usize,
+        /// Its name.
+        name: String,
+        /// First carrier.
+        first: String,
+        /// Second carrier.
+        second: String,
+    },
+    /// A body used by two owners that do not move together.
+    #[error("{}", shared_body_message(body_name, first, second))]
+    SharedBody {
+        /// Body index.
+        body: usize,
+        /// Body name.
+        body_name: String,
+        /// The first owner met.
+        first: Owner,
+        /// An owner that moves differently.
+        second: Owner,
+    },
+    /// Too many frames or blocks.
+    #[error("the film is too long: more than {MAX_FRAMES} frames or {MAX_BLOCKS} blocks")]
+    TooLong,
+}
+
+fn shared_body_message(body: &str, a: &Owner, b: &Owner) -> String {
+    match (a, b) {
+        (Owner::Object(a), Owner::Object(b)) => {
+            format!("body `{body}` is shared by objects `{a}` and `{b}`, which move differently")
+        }
+        (Owner::Object(o), Owner::Region(r)) | (Owner::Region(r), Owner::Object(o)) => format!(
+            "body `{body}` is shared by object `{o}`, which moves, and region `{r}`, which is in no object"
+        ),
+        (Owner::Region(a), Owner::Region(b)) => format!("body `{body}` is shared by regions `{a}` and `{b}`"),
+    }
+}
+
+/// A block of the expanded film: changes shot over `len` frames.
+#[derive(Clone, Debug)]
+struct Block {
+    start: usize,
+    len: usize,
+    changes: std::ops::Range<usize>,
+}
+
+/// The set-up at one frame: every object's total transform, the camera and
+/// the lights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameState {
+    xf: Vec<DAffine3>,
+    camera: Option<Camera>,
+    lights: Vec<(LightKind, f64)>,
+    spins: Vec<(usize, usize, f64)>,
+    track: Option<usize>,
+}
+
+impl FrameState {
+    /// The total transform of an object (identity for a bad index): where
+    /// the base scene's bodies of the object are carried.
+    pub fn object_transform(&self, object: usize) -> DAffine3 {
+        self.xf.get(object).copied().unwrap_or(DAffine3::IDENTITY)
+    }
+
+    /// The camera, if there is one.
+    pub fn camera(&self) -> Option<&Camera> {
+        self.camera.as_ref()
+    }
+
+    /// A light's kind (position or direction) and intensity.
+    pub fn light(&self, light: usize) -> Option<(LightKind, f64)> {
+        self.lights.get(light).copied()
+    }
+}
+
+/// A validated film: objects, axes and the expanded steps.
+#[derive(Clone, Debug)]
+pub struct Timeline {
+    spec: Spec,
+    subtree: Vec<Vec<usize>>,
+    subtree_bodies: Vec<Vec<usize>>,
+    body_owner: Vec<Option<usize>>,
+    ref_points: Vec<Vec<DVec3>>,
+    changes: Vec<Timed>,
+    blocks: Vec<Block>,
+    frames: usize,
+    initial: FrameState,
+}
+
+impl Timeline {
+    /// Validate `spec` against the scene it animates and expand it. Every
+    /// problem found is returned. `base` must be the scene later passed to
+    /// [`Timeline::scene_at`].
+    pub fn new(spec: Spec, base: &Scene) -> Result<Timeline, Vec<DirectorError>> {
+        let mut errors = Vec::new();
+        let geo = &base.geometry;
+        check_indices(&spec, base, &mut errors);
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let n = spec.objects.len();
+        // Parents, then cycles.
+        let mut parent: Vec<Option<usize>> = vec![None; n];
+        for (p, o) in spec.objects.iter().enumerate() {
+            for &c in &o.children {
+                match parent[c] {
+                    Some(q) if q != p => errors.push(DirectorError::TwoParents {
+                        object: c,
+                        name: spec.objects[c].name.clone(),
+                        first: spec.objects[q].name.clone(),
+                        second: o.name.clone(),
+                    }),
+                    _ => parent[c] = Some(p),
+                }
+            }
+        }
+        for o in 0..n {
+            let mut at = parent[o];
+            let mut steps = 0;
+            while let Some(p) = at {
+                if p == o {
+                    errors.push(DirectorError::Cycle {
+                        object: o,
+                        name: spec.objects[o].name.clone(),
+                    });
+                    break;
+                }
+                steps += 1;
+                if steps > n {
+                    break;
+                }
+                at = parent[p];
+            }
+        }
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let subtree: Vec<Vec<usize>> = (0..n)
+            .map(|o| {
+                let mut out = vec![o];
+                let mut i = 0;
+                while i < out.len() {
+                    for &c in &spec.objects[out[i]].children {
+                        if !out.contains(&c) {
+                            out.push(c);
+                        }
+                    }
+                    i += 1;
+                }
+                out
+            })
+            .collect();
+
+        // Which objects ever move, and with which others.
+        let mut moved: Vec<usize> = Vec::new();
+        collect_moved(&spec.steps, &mut moved);
+        moved.sort_unstable();
+        moved.dedup();
+        let signature = |owner: Option<usize>| -> Vec<bool> {
+            moved
+                .iter()
+                .map(|&t| owner.is_some_and(|o| subtree[t].contains(&o)))
+                .collect()
+        };
+
+        // Body owners.
+        let nb = geo.bodies.len();
+        let mut owners: Vec<Vec<Option<usize>>> = vec![Vec::new(); nb];
+        let mut owner_region: Vec<Vec<usize>> = vec![Vec::new(); nb];
+        let mut in_object = vec![false; geo.regions.len()];
+        for (oi, o) in spec.objects.iter().enumerate() {
+            for &r in &o.regions {
+                in_object[r] = true;
+                for b in region_bodies(geo, r) {
+                    if !owners[b].contains(&Some(oi)) {
+                        owners[b].push(Some(oi));
+                        owner_region[b].push(r);
+                    }
+                }
+            }
+        }
+        for (r, used) in in_object.iter().enumerate() {
+            if !used {
+                for b in region_bodies(geo, r) {
+                    if !owners[b].contains(&None) {
+                        owners[b].push(None);
+                        owner_region[b].push(r);
+                    }
+                }
+            }
+        }
+        let owner_name = |o: Option<usize>, r: usize| match o {
+            Some(o) => Owner::Object(spec.objects[o].name.clone()),
+            None => Owner::Region(geo.regions[r].name.clone()),
+        };
+        let mut body_owner = vec![None; nb];
+        for b in 0..nb {
+            let Some(&first) = owners[b].first() else {
+                continue;
+            };
+            body_owner[b] = first;
+            let sig = signature(first);
+            for (j, &other) in owners[b].iter().enumerate().skip(1) {
+                if signature(other) != sig {
+                    errors.push(DirectorError::SharedBody {
+                        body: b,
+                        body_name: geo.bodies[b].name.clone(),
+                        first: owner_name(first, owner_region[b][0]),
+                        second: owner_name(other, owner_region[b][j]),
+                    });
+                    break;
+                }
+            }
+        }
+        let subtree_bodies = subtree
+            .iter()
+            .map(|objs| {
+                let mut v: Vec<usize> = (0..nb)
+                    .filter(|&b| {
+                        owners[b]
+                            .iter()
+                            .any(|o| o.is_some_and(|o| objs.contains(&o)))
+                    })
+                    .collect();
+                v.dedup();
+                v
+            })
+            .collect();
+
+        // Expand the steps.
+        let mut changes = Vec::new();
+        let mut blocks = Vec::new();
+        let mut frames = 0usize;
+        if expand(&spec.steps, &mut changes, &mut blocks, &mut frames).is_err() {
+            errors.push(DirectorError::TooLong);
+        }
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let initial = FrameState {
+            xf: vec![DAffine3::IDENTITY; n],
+            camera: spec.camera.or(base.camera),
+            lights: base.lights.iter().map(|l| (l.kind, l.intensity)).collect(),
+            spins: Vec::new(),
+            track: None,
+        };
+        let ref_points = geo.bodies.iter().map(reference_points).collect();
+        Ok(Timeline {
+            spec,
+            subtree,
+            subtree_bodies,
+            body_owner,
+            ref_points,
+            changes,
+            blocks,
+            frames,
+            initial,
+        })
+    }
+
+    /// The specification the timeline was built from.
+    pub fn spec(&self) -> &Spec {
+        &self.spec
+    }
+
+    /// Number of frames the film shoots.
+    pub fn frame_count(&self) -> usize {
+        self.frames
+    }
+
+    /// Frames per second.
+    pub fn fps(&self) -> f64 {
+        self.spec.fps
+    }
+
+    /// Raster size set by the film, if any (else the scene's).
+    pub fn size(&self) -> Option<(u32, u32)> {
+        self.spec.size
+    }
+
+    /// A SHA-256 digest (hex) of everything that decides the film's
+    /// pictures apart from render settings: the specification (objects,
+    /// axes, steps, rate, size, camera) and the base scene. Comments and
+    /// layout of a script do not change it. Film runners combine it with
+    /// their own settings to tell which frames on disk are still valid.
+    pub fn fingerprint(&self, base: &Scene) -> String {
+        use sha2::{Digest, Sha256};
+        let mut h = Sha256::new();
+        h.update(format!("{:?}", self.spec).as_bytes());
+        h.update([0u8]);
+        h.update(format!("{base:?}").as_bytes());
+        h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    }
+
+    /// The object that moves a body of the base scene, if any.
+    pub fn body_owner(&self, body: usize) -> Option<usize> {
+        self.body_owner.get(body).copied().flatten()
+    }
+
+    /// The set-up at `frame` (0-based). Frames past the end give the final
+    /// set-up.
+    pub fn state_at(&self, frame: usize) -> FrameState {
+        let mut s = self.initial.clone();
+        for b in &self.blocks {
+            if b.len > 0 && frame < b.start + b.len {
+                return self.block_state(&s, b, frame - b.start + 1);
+            }
+            s = self.block_state(&s, b, b.len);
+        }
+        s
+    }
+
+    /// Every frame's set-up in order, computed by carrying the set-up from
+    /// block to block (a full sequential run).
+    pub fn states(&self) -> impl Iterator<Item = FrameState> + '_ {
+        let mut start = self.initial.clone();
+        self.blocks.iter().flat_map(move |b| {
+            let from = start.clone();
+            start = self.block_state(&from, b, b.len);
+            (1..=b.len).map(move |k| self.block_state(&from, b, k))
+        })
+    }
+
+    /// The scene at `frame`: the base scene with every moved body replaced
+    /// by the base body under its object's total transform (applied once),
+    /// and the camera, lights and size of that frame.
+    pub fn scene_at(&self, base: &Scene, frame: usize) -> Scene {
+        self.scene_from_state(base, &self.state_at(frame))
+    }
+
+    /// The scene for a set-up computed by [`Timeline::state_at`] or
+    /// [`Timeline::states`].
+    pub fn scene_from_state(&self, base: &Scene, state: &FrameState) -> Scene {
+        let mut scene = base.clone();
+        for (i, body) in scene.geometry.bodies.iter_mut().enumerate() {
+            if let Some(o) = self.body_owner(i) {
+                let t = state.object_transform(o);
+                if t != DAffine3::IDENTITY {
+                    // A product of rigid transforms stays a similarity far
+                    // within the tolerance of `transformed`; should it ever
+                    // not, the body is left where the scene put it.
+                    if let Ok(moved) = body.transformed(&t) {
+                        *body = moved;
+                    }
+                }
+            }
+        }
+        if state.camera.is_some() {
+            scene.camera = state.camera;
+        }
+        for (light, &(kind, intensity)) in scene.lights.iter_mut().zip(&state.lights) {
+            light.kind = kind;
+            light.intensity = intensity;
+        }
+        if let Some(size) = self.spec.size {
+            scene.size = Some(size);
+        }
+        scene
+    }
+
+    /// Centre of an object at a frame's set-up: the centre of the bounding
+    /// box of its bodies' reference points (for every body of the object and
+    /// of the objects it carries: each point parameter, each point plus each
+    /// vector parameter written after it, the corners of an RPP, the points
+    /// of an ARS; bodies extending to infinity are left out). An object
+    /// without such points is centred on the image of the origin.
+    pub fn object_centre(&self, object: usize, state: &FrameState) -> DVec3 {
+        let mut bb = Aabb::EMPTY;
+        for &b in self.subtree_bodies.get(object).map_or(&[][..], |v| v) {
+            let t = self
+                .body_owner(b)
+                .map_or(DAffine3::IDENTITY, |o| state.object_transform(o));
+            for p in &self.ref_points[b] {
+                bb = bb.including(t.transform_point3(*p));
+            }
+        }
+        if bb.is_empty() {
+            state.object_transform(object).transform_point3(DVec3::ZERO)
+        } else {
+            bb.center()
+        }
+    }
+
+    /// World position and direction of an axis at a set-up.
+    pub fn axis_at(&self, axis: usize, state: &FrameState) -> (DVec3, DVec3) {
+        let Some(a) = self.spec.axes.get(axis) else {
+            return (DVec3::ZERO, DVec3::Z);
+        };
+        match a.on {
+            Some(o) => {
+                let t = state.object_transform(o);
+                (t.transform_point3(a.point), t.transform_vector3(a.dir))
+            }
+            None => (a.point, a.dir),
+        }
+    }
+
+    fn block_state(&self, start: &FrameState, b: &Block, k: usize) -> FrameState {
+        let mut s = start.clone();
+        for t in &self.changes[b.changes.clone()] {
+            self.apply(&mut s, &t.change, t.fraction(k));
+        }
+        if k > 0 {
+            let spins = s.spins.clone();
+            for (o, a, rate) in spins {
+                let angle = rate * k as f64;
+                if angle != 0.0 {
+                    let (p, d) = self.axis_at(a, &s);
+                    self.transform_object(&mut s, o, rotation_about_axis(p, d, angle));
+                }
+            }
+        }
+        if let Some(o) = s.track {
+            let c = self.object_centre(o, &s);
+            if let Some(cam) = s.camera.as_mut() {
+                let d = c - cam.eye;
+                if d.length_squared() > 0.0 && d.is_finite() {
+                    cam.dir = d;
+                }
+            }
+        }
+        s
+    }
+
+    fn transform_object(&self, s: &mut FrameState, o: usize, t: DAffine3) {
+        for &m in &self.subtree[o] {
+            s.xf[m] = t * s.xf[m];
+        }
+    }
+
+    fn apply(&self, s: &mut FrameState, change: &Change, f: f64) {
+        match *change {
+            Change::Move { target, by } => {
+                let d = by * f;
+                match target {
+                    Target::Object(o) => self.transform_object(s, o, DAffine3::from_translation(d)),
+                    Target::Camera => {
+                        if let Some(c) = s.camera.as_mut() {
+                            c.eye += d;
+                        }
+                    }
+                    Target::Light(i) => {
+                        if let Some((LightKind::Point { pos, .. }, _)) = s.lights.get_mut(i) {
+                            *pos += d;
+                        }
+                    }
+                }
+            }
+            Change::Turn {
+                target,
+                axis,
+                degrees,
+            } => {
+                let (p, d) = self.axis_at(axis, s);
+                let r = rotation_about_axis(p, d, degrees * f);
+                match target {
+                    Target::Object(o) => self.transform_object(s, o, r),
+                    Target::Camera => {
+                        if let Some(c) = s.camera.as_mut() {
+                            c.eye = r.transform_point3(c.eye);
+                            c.dir = r.transform_vector3(c.dir);
+                            c.up = r.transform_vector3(c.up);
+                        }
+                    }
+                    Target::Light(i) => match s.lights.get_mut(i) {
+                        Some((LightKind::Point { pos, .. }, _)) => *pos = r.transform_point3(*pos),
+                        Some((LightKind::Parallel { dir }, _)) => *dir = r.transform_vector3(*dir),
+                        None => {}
+                    },
+                }
+            }
+            Change::Aim(at) => {
+                let target = match at {
+                    AimPoint::Point(p) => p,
+                    AimPoint::Object(o) => self.object_centre(o, s),
+                };
+                if let Some(c) = s.camera.as_mut() {
+                    let d1 = target - c.eye;
+                    if d1.length_squared() == 0.0 || !d1.is_finite() {
+                        return;
+                    }
+                    if f >= 1.0 {
+                        c.dir = d1;
+                    } else {
+                        let a = c.dir.normalize();
+                        let q = DQuat::from_rotation_arc(a, d1.normalize());
+                        c.dir = DQuat::IDENTITY.slerp(q, f) * a;
+                    }
+                }
+            }
+            Change::Zoom(z) => {
+                if let Some(c) = s.camera.as_mut() {
+                    c.lens = zoom(c, z, f);
+                }
+            }
+            Change::Intensity { light, value } => {
+                if let Some((_, i)) = s.lights.get_mut(light) {
+                    *i = lerp(*i, value, f);
+                }
+            }
+            Change::Spin {
+                object,
+                axis,
+                degrees_per_frame,
+            } => {
+                s.spins.retain(|sp| sp.0 != object);
+                s.spins.push((object, axis, degrees_per_frame));
+            }
+            Change::Stop { object } => s.spins.retain(|sp| sp.0 != object),
+            Change::Track(t) => s.track = t,
+        }
+    }
+}
+
+fn lerp(a: f64, b: f64, f: f64) -> f64 {
+    if f >= 1.0 {
+        b
+    } else {
+        a + (b - a) * f
+    }
+}
+
+fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
+    match (z, c.lens) {
+        (Zoom::Fov(v1), Lens::Fov { vertical_deg }) => Lens::Fov {
+            vertical_deg: lerp(vertical_deg, v1, f),
+        },
+        (Zoom::Fov(v1), Lens::Focal { .. }) => {
+            let v0 = 2.0 * c.tan_half_fov().atan().to_degrees();
+            Lens::Fov {
+                vertical_deg: lerp(v0, v1, f),
+            }
+        }
+        (
+            Zoom::Focal { focal, .. },
+            Lens::Focal {
+                focal: f0,
+                film_height,
+            },
+        ) => Lens::Focal {
+            focal: lerp(f0, focal, f),
+            film_height,
+        },
+        (Zoom::Focal { focal, film_height }, Lens::Fov { .. }) => {
+            let f0 = film_height / (2.0 * c.tan_half_fov());
+            Lens::Focal {
+                focal: lerp(f0, focal, f),
+                film_height,
+            }
+        }
+        (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho {
+            height: lerp(height, h1, f),
+        },
+        // A perspective setting on an orthographic camera and the reverse
+        // are refused by the script reader; here they leave the lens alone.
+        (_, lens) => lens,
+    }
+}
+
+fn region_bodies(geo: &Geometry, r: usize) -> Vec<usize> {
+    let mut v: Vec<usize> = geo.regions[r]
+        .zones
+        .iter()
+        .flat_map(|z| z.terms.iter().map(|t| t.body))
+        .filter(|&b| b < geo.bodies.len())
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+fn reference_points(b: &sv_geom::Body) -> Vec<DVec3> {
+    let p = &b.params;
+    let at = |i: usize| -> Option<DVec3> {
+        Some(DVec3::new(*p.get(i)?, *p.get(i + 1)?, *p.get(i + 2)?))
+    };
+    let mut out = Vec::new();
+    if b.kind.is_infinite() {
+        return out;
+    }
+    match b.kind {
+        BodyKind::Rpp => {
+            if p.len() >= 6 {
+                for i in 0..8 {
+                    out.push(DVec3::new(
+                        p[i & 1],
+                        p[2 + ((i >> 1) & 1)],
+                        p[4 + ((i >> 2) & 1)],
+                    ));
+                }
+            }
+        }
+        BodyKind::Ars => {
+            let mut i = 2;
+            while let Some(q) = at(i) {
+                out.push(q);
+                i += 3;
+            }
+        }
+        _ => {
+            let mut i = 0;
+            let mut last_point = None;
+            for prm in b.kind.info().params {
+                match prm.kind {
+                    ParamKind::Point => {
+                        last_point = at(i);
+                        out.extend(last_point);
+                    }
+                    ParamKind::Vector => {
+                        if let (Some(v), Some(q)) = (at(i), last_point) {
+                            out.push(q + v);
+                        }
+                    }
+                    _ => {}
+                }
+                i += prm.kind.width();
+            }
+        }
+    }
+    out.retain(|q| q.is_finite());
+    out
+}
+
+fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
+    let n = spec.objects.len();
+    let mut bad = |what: &'static str, index: usize, len: usize| {
+        if index >= len {
+            errors.push(DirectorError::BadIndex { what, index });
+        }
+    };
+    for o in &spec.objects {
+        for &r in &o.regions {
+            bad("region", r, base.geometry.regions.len());
+        }
+        for &c in &o.children {
+            bad("object", c, n);
+        }
+    }
+    for a in &spec.axes {
+        if let Some(o) = a.on {
+            bad("object", o, n);
+        }
+    }
+    fn walk(steps: &[Step], f: &mut dyn FnMut(&Change)) {
+        for s in steps {
+            match s {
+                Step::Change(t) => f(&t.change),
+                Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
+                Step::Shoot(_) => {}
+                Step::Repeat(_, body) => walk(body, f),
+            }
+        }
+    }
+    let na = spec.axes.len();
+    let nl = base.lights.len();
+    walk(&spec.steps, &mut |c| {
+        let target = |t: Target, bad: &mut dyn FnMut(&'static str, usize, usize)| match t {
+            Target::Object(o) => bad("object", o, n),
+            Target::Light(l) => bad("light", l, nl),
+            Target::Camera => {}
+        };
+        match *c {
+            Change::Move { target: t, .. } => target(t, &mut bad),
+            Change::Turn {
+                target: t, axis, ..
+            } => {
+                target(t, &mut bad);
+                bad("axis", axis, na);
+            }
+            Change::Aim(AimPoint::Object(o))
+            | Change::Stop { object: o }
+            | Change::Track(Some(o)) => bad("object", o, n),
+            Change::Spin { object, axis, .. } => {
+                bad("object", object, n);
+                bad("axis", axis, na);
+            }
+            Change::Intensity { light, .. } => bad("light", light, nl),
+            Change::Aim(AimPoint::Point(_)) | Change::Zoom(_) | Change::Track(None) => {}
+        }
+    });
+    for (i, a) in spec.axes.iter().enumerate() {
+        if !(a.dir.length_squared() > 0.0 && a.dir.is_finite() && a.point.is_finite()) {
+            errors.push(DirectorError::BadAxis {
+                axis: i,
+                name: a.name.clone(),
+            });
+        }
+    }
+}
+
+fn collect_moved(steps: &[Step], out: &mut Vec<usize>) {
+    let mut one = |c: &Change| match *c {
+        Change::Move {
+            target: Target::Object(o),
+            ..
+        }
+        | Change::Turn {
+            target: Target::Object(o),
+            ..
+        }
+        | Change::Spin { object: o, .. } => out.push(o),
+        _ => {}
+    };
+    fn walk(steps: &[Step], f: &mut dyn FnMut(&Change)) {
+        for s in steps {
+            match s {
+                Step::Change(t) => f(&t.change),
+                Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
+                Step::Shoot(_) => {}
+                Step::Repeat(_, body) => walk(body, f),
+            }
+        }
+    }
+    walk(steps, &mut one);
+}
+
+struct TooLong;
+
+fn push_block(
+    changes: &mut Vec<Timed>,
+    blocks: &mut Vec<Block>,
+    frames: &mut usize,
+    items: &[Timed],
+    len: usize,
+) -> Result<(), TooLong> {
+    if items.is_empty() && len == 0 {
+        return Ok(());
+    }
+    let start = *frames;
+    let end = start
+        .checked_add(len)
+        .filter(|&e| e <= MAX_FRAMES)
+        .ok_or(TooLong)?;
+    if blocks.len() >= MAX_BLOCKS || changes.len() + items.len() > 4 * MAX_BLOCKS {
+        return Err(TooLong);
+    }
+    let c0 = changes.len();
+    changes.extend_from_slice(items);
+    blocks.push(Block {
+        start,
+        len,
+        changes: c0..changes.len(),
+    });
+    *frames = end;
+    Ok(())
+}
+
+fn expand(
+    steps: &[Step],
+    changes: &mut Vec<Timed>,
+    blocks: &mut Vec<Block>,
+    frames: &mut usize,
+) -> Result<(), TooLong> {
+    for s in steps {
+        match s {
+            Step::Change(t) => {
+                push_block(changes, blocks, frames, std::slice::from_ref(t), t.frames)?
+            }
+            Step::Together(ts) => {
+                let len = ts.iter().map(|t| t.frames).max().unwrap_or(0);
+                push_block(changes, blocks, frames, ts, len)?;
+            }
+            Step::Shoot(n) => push_block(changes, blocks, frames, &[], *n)?,
+            Step::Repeat(count, body) => {
+                for _ in 0..*count {
+                    let before = blocks.len();
+                    expand(body, changes, blocks, frames)?;
+                    if blocks.len() == before {
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -200,17 +200,40 @@ impl Bvh {
     }
 }
 
-/// Entry distance of the ray into `b` if it meets it within `[tmin, tmax]`.
-#[inline]
+/// `min` and `max` that compile to single `minsd`/`maxsd` instructions.
+/// With a NaN operand they return the other one (`b`), which is what the
+/// slab test wants: a NaN comes from `0 · inf` when the origin lies on a
+/// slab plane of an axis the ray runs parallel to, and that axis must then
+/// not restrict the range.
+#[inline(always)]
+fn fmin(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+#[inline(always)]
+fn fmax(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// Entry distance of the ray into `b` if it meets it within `[tmin, tmax]`
+/// (slab test, Kay & Kajiya 1986).
+#[inline(always)]
 pub(crate) fn hits(b: &Aabb, ray: &Ray, tmin: f64, tmax: f64) -> Option<f64> {
-    let t1 = (b.min - ray.origin) * ray.inv_dir;
-    let t2 = (b.max - ray.origin) * ray.inv_dir;
-    let lo = t1.min(t2);
-    let hi = t1.max(t2);
-    // NaN (0 * inf when the origin lies on a slab plane with a zero
-    // direction component) is ignored by max/min, which treat it as missing.
-    let t0 = lo.x.max(lo.y).max(lo.z).max(tmin);
-    let t1 = hi.x.min(hi.y).min(hi.z).min(tmax);
+    let (o, inv) = (ray.origin, ray.inv_dir);
+    let (x0, x1) = ((b.min.x - o.x) * inv.x, (b.max.x - o.x) * inv.x);
+    let (y0, y1) = ((b.min.y - o.y) * inv.y, (b.max.y - o.y) * inv.y);
+    let (z0, z1) = ((b.min.z - o.z) * inv.z, (b.max.z - o.z) * inv.z);
+    // Slab values come first: a NaN there yields the accumulated bound.
+    let t0 = fmax(fmin(z0, z1), fmax(fmin(y0, y1), fmax(fmin(x0, x1), tmin)));
+    let t1 = fmin(fmax(z0, z1), fmin(fmax(y0, y1), fmin(fmax(x0, x1), tmax)));
     (t0 <= t1).then_some(t0)
 }
 

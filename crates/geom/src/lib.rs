@@ -29,4 +29,4 @@ mod trace;
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
 pub use prepare::{PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
-pub use trace::{Crossing, Hit, Partition, Scratch, Step};
+pub use trace::{Crossing, Frustum, Hit, Partition, Scratch, Step};

@@ -20,6 +20,9 @@ pub struct PrepareOptions {
     /// Per region: does it stop light? `None` means every region does.
     /// Transparent regions are still traced by [`Prepared::partitions`].
     pub opaque: Option<Vec<bool>>,
+    /// Test every zone for every ray instead of walking the hierarchy.
+    /// Slow; results are bit-for-bit the same, which the tests check.
+    pub brute_force: bool,
 }
 
 /// Something wrong with a body that was nevertheless rendered.
@@ -187,13 +190,22 @@ impl Prepared {
             };
             (1e-7 * d).max(1e-12)
         });
+        // Pad every box by the tolerance so that rounding never makes a box
+        // test reject a hit on its boundary.
+        let pad = 4.0 * tol;
+        for b in body_bounds.iter_mut() {
+            *b = b.padded(pad);
+        }
+        for z in zones.iter_mut() {
+            z.bounds = z.bounds.padded(pad);
+        }
         let mut bounded_all = Vec::new();
         let mut bounded_opaque = Vec::new();
         let (mut unbounded_all, mut unbounded_opaque) = (Vec::new(), Vec::new());
         let (mut bounds, mut opaque_bounds) = (Aabb::EMPTY, Aabb::EMPTY);
         for (i, z) in zones.iter().enumerate() {
             let vis = opaque[z.region as usize];
-            if z.bounds.is_finite() {
+            if z.bounds.is_finite() && !opts.brute_force {
                 bounded_all.push((i as u32, z.bounds));
                 bounds = bounds.union(&z.bounds);
                 if vis {

@@ -2,6 +2,7 @@
 //! hit (shadows), and the full list of region partitions along a ray.
 
 use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
+use crate::bvh::hits;
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Seg;
 use sv_math::{DVec3, Ray};
@@ -90,7 +91,11 @@ impl Prepared {
         let bi = b as usize;
         if s.stamp[bi] != s.ray_id {
             let start = s.segs.len();
-            self.shapes[bi].shoot(ray, &mut s.segs);
+            // The (padded) bounds reject most misses for the price of a
+            // box test.
+            if hits(&self.body_bounds[bi], ray, f64::NEG_INFINITY, f64::INFINITY).is_some() {
+                self.shapes[bi].shoot(ray, &mut s.segs);
+            }
             s.stamp[bi] = s.ray_id;
             s.range[bi] = (start as u32, s.segs.len() as u32);
         }
@@ -142,29 +147,41 @@ impl Prepared {
                 b: inf,
             });
         } else {
-            self.load_body(plus[0], ray, s, false);
-            s.cur.extend(s.body.iter().filter(|sp| keep(sp)));
-            for &b in &plus[1..] {
+            for &b in plus {
+                // A missed `+` body empties the zone: no copy, no boolean.
+                let (a, e) = self.body_segs(b, ray, s);
+                if a == e {
+                    return false;
+                }
+                if b == plus[0] {
+                    self.load_body(b, ray, s, false);
+                    s.cur.extend(s.body.iter().filter(|sp| keep(sp)));
+                } else {
+                    self.load_body(b, ray, s, false);
+                    intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
+                    std::mem::swap(&mut s.cur, &mut s.tmp);
+                }
                 if s.cur.is_empty() {
                     return false;
                 }
-                self.load_body(b, ray, s, false);
-                intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
-                std::mem::swap(&mut s.cur, &mut s.tmp);
             }
         }
         for &b in minus {
-            if s.cur.is_empty() {
-                return false;
-            }
             let (first, last) = (s.cur[0].a.t, s.cur[s.cur.len() - 1].b.t);
-            match self.body_bounds[b as usize].ray_range(ray) {
-                Some((t0, t1)) if t1 > first && t0 < last => {}
-                _ => continue,
+            if hits(&self.body_bounds[b as usize], ray, first, last).is_none() {
+                continue;
+            }
+            // A missed `-` body changes nothing.
+            let (a, e) = self.body_segs(b, ray, s);
+            if a == e || s.segs[a].t0 >= last || s.segs[e - 1].t1 <= first {
+                continue;
             }
             self.load_body(b, ray, s, false);
             subtract(&s.cur, &s.body, &mut s.tmp, self.tol);
             std::mem::swap(&mut s.cur, &mut s.tmp);
+            if s.cur.is_empty() {
+                return false;
+            }
         }
         s.cur.retain(keep);
         !s.cur.is_empty()
@@ -179,43 +196,106 @@ impl Prepared {
         s.new_ray();
         let mut best: Option<Hit> = None;
         let mut limit = tmax;
-        let mut visit = |zi: u32, limit: &mut f64, s: &mut Scratch| {
-            let z = &self.zones[zi as usize];
-            if !self.zone_spans(z, ray, tmin, *limit, s) {
-                return;
-            }
-            let sp = s.cur[0];
-            let (t, inside) = if sp.a.t > tmin {
-                (sp.a.t, false)
-            } else {
-                (tmin, true)
-            };
-            let better = match &best {
-                None => true,
-                Some(h) => t < h.t || (t == h.t && z.region < h.region),
-            };
-            if better {
-                best = Some(Hit {
-                    t,
-                    region: z.region,
-                    bound: sp.a,
-                    inside,
-                });
-                // Keep equal-t candidates reachable for the tie rule.
-                *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
-            }
-        };
         for &zi in &self.unbounded_opaque {
-            visit(zi, &mut limit, s);
+            self.consider(zi, ray, tmin, &mut limit, &mut best, s);
         }
         self.bvh_opaque
             .traverse(ray, tmin, &mut limit, |items, limit| {
                 for &zi in items {
-                    visit(zi, limit, s);
+                    self.consider(zi, ray, tmin, limit, &mut best, s);
                 }
                 false
             });
         best
+    }
+
+    /// As [`Prepared::first_hit`], but looking only at `zones` (from
+    /// [`Prepared::frustum_zones`] for a bundle of rays). Gives exactly the
+    /// same answer for any ray of that bundle.
+    pub fn first_hit_in(
+        &self,
+        zones: &[u32],
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> Option<Hit> {
+        s.new_ray();
+        let mut best: Option<Hit> = None;
+        let mut limit = tmax;
+        for &zi in zones {
+            self.consider(zi, ray, tmin, &mut limit, &mut best, s);
+        }
+        best
+    }
+
+    /// Test one zone for the first hit, keeping the best so far: the lowest
+    /// entry, ties to the lower region index.
+    #[inline]
+    fn consider(
+        &self,
+        zi: u32,
+        ray: &Ray,
+        tmin: f64,
+        limit: &mut f64,
+        best: &mut Option<Hit>,
+        s: &mut Scratch,
+    ) {
+        let z = &self.zones[zi as usize];
+        if hits(&z.bounds, ray, tmin, *limit).is_none() || !self.zone_spans(z, ray, tmin, *limit, s)
+        {
+            return;
+        }
+        let sp = s.cur[0];
+        let (t, inside) = if sp.a.t > tmin {
+            (sp.a.t, false)
+        } else {
+            (tmin, true)
+        };
+        let better = match best {
+            None => true,
+            Some(h) => t < h.t || (t == h.t && z.region < h.region),
+        };
+        if better {
+            *best = Some(Hit {
+                t,
+                region: z.region,
+                bound: sp.a,
+                inside,
+            });
+            // Keep equal-t candidates reachable for the tie rule.
+            *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
+        }
+    }
+
+    /// The opaque zones whose bounds meet the frustum, in hierarchy order
+    /// (unbounded zones first).
+    pub fn frustum_zones(&self, f: &Frustum, out: &mut Vec<u32>) {
+        out.clear();
+        out.extend_from_slice(&self.unbounded_opaque);
+        let nodes = &self.bvh_opaque.nodes;
+        if nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let node = nodes[n];
+            if !f.may_meet(&node.bounds) {
+                continue;
+            }
+            if node.count > 0 {
+                let items =
+                    &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
+                out.extend(
+                    items
+                        .iter()
+                        .filter(|&&zi| f.may_meet(&self.zones[zi as usize].bounds)),
+                );
+            } else {
+                stack.push(node.first as usize + 1);
+                stack.push(node.first as usize);
+            }
+        }
     }
 
     /// True when an opaque region lies on the ray within `(tmin, tmax)`
@@ -336,6 +416,50 @@ impl Prepared {
         } else {
             n
         }
+    }
+}
+
+/// The volume swept by a bundle of rays (a tile of pixels): the
+/// intersection of half-spaces `n·x >= d`. Used only to rule zones out, so
+/// it must contain every ray of the bundle.
+#[derive(Clone, Copy, Debug)]
+pub struct Frustum {
+    planes: [(DVec3, f64); 4],
+}
+
+impl Frustum {
+    /// The frustum bounded by four corner rays given in order around the
+    /// bundle (their origins may differ, as for an orthographic view; the
+    /// rays must diverge or stay parallel).
+    pub fn from_corners(c: [Ray; 4]) -> Frustum {
+        let centre_o = (c[0].origin + c[1].origin + c[2].origin + c[3].origin) * 0.25;
+        let centre_d = (c[0].dir + c[1].dir + c[2].dir + c[3].dir).normalize();
+        let probe = centre_o + centre_d;
+        let planes = std::array::from_fn(|i| {
+            let (a, b) = (&c[i], &c[(i + 1) % 4]);
+            // The plane holds ray a and the point where ray b starts.
+            let mut n = a.dir.cross(b.dir + (b.origin - a.origin));
+            if n.dot(probe - a.origin) < 0.0 {
+                n = -n;
+            }
+            (n, n.dot(a.origin))
+        });
+        Frustum { planes }
+    }
+
+    /// False only when the box lies wholly outside.
+    pub fn may_meet(&self, b: &sv_math::Aabb) -> bool {
+        self.planes.iter().all(|(n, d)| {
+            let p = DVec3::new(
+                if n.x > 0.0 { b.max.x } else { b.min.x },
+                if n.y > 0.0 { b.max.y } else { b.min.y },
+                if n.z > 0.0 { b.max.z } else { b.min.z },
+            );
+            let v = n.dot(p);
+            // Rounding slack: rule a box out only when clearly outside.
+            // (NaN compares false and keeps the box.)
+            v >= *d - 1e-9 * (d.abs() + v.abs() + n.length()) || v.is_nan()
+        })
     }
 }
 

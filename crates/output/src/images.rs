@@ -107,31 +107,44 @@ pub enum WriteError {
 }
 
 /// Write `bytes` produced by `fill` to `path` atomically: a temporary file
-/// in the same folder, flushed, then renamed over `path`.
+/// in the same folder, flushed, then renamed over `path`. Readers see the
+/// old file or the whole new one, never a part, and a failure leaves
+/// nothing behind. The file gets ordinary permissions (0644 less the umask).
 pub fn write_atomic(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), WriteError> {
-    let io = |source| WriteError::Io {
+    write_atomic_io(path, fill).map_err(|source| WriteError::Io {
         path: path.to_owned(),
         source,
-    };
+    })
+}
+
+/// [`write_atomic`] with a plain I/O error.
+pub fn write_atomic_io(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".sv-")
-        .suffix(".tmp")
-        .tempfile_in(dir)
-        .map_err(io)?;
+    let mut b = tempfile::Builder::new();
+    // `film::remove_stale_temporaries` recognises the `.tmp-` prefix.
+    b.prefix(".tmp-");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        b.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let mut tmp = b.tempfile_in(dir)?;
     {
         let mut w = std::io::BufWriter::new(tmp.as_file_mut());
-        fill(&mut w).map_err(io)?;
-        w.flush().map_err(io)?;
+        fill(&mut w)?;
+        w.flush()?;
     }
-    tmp.as_file().sync_all().map_err(io)?;
-    tmp.persist(path).map_err(|e| io(e.error))?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
 }
 
@@ -153,7 +166,8 @@ fn code(v: f32, o: &WriteOptions, max: f32) -> u16 {
     if o.encoding == Encoding::Srgb {
         v = srgb(v);
     }
-    (v * max).round() as u16
+    // Round half up; the value is non-negative, so this equals round().
+    (v * max + 0.5) as u16
 }
 
 /// The channels to write for each pixel, as linear floats.

@@ -6,6 +6,7 @@
 //! truncated picture.
 #![warn(missing_docs)]
 
+pub mod film;
 pub mod images;
 
 pub use images::{

@@ -19,7 +19,12 @@ pub use view::{default_camera, default_lights, frame_bounds};
 
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use sv_geom::{Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
+use sv_geom::{Frustum, Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
+
+/// Tiles are TILE×TILE pixels.
+const TILE: usize = 16;
+/// Above this many candidate zones a tile's rays walk the hierarchy.
+const MAX_TILE_ZONES: usize = 48;
 use sv_math::{DVec3, Ray};
 use sv_scene::{Background, Camera, Light, LightKind, Scene};
 
@@ -69,14 +74,18 @@ impl Renderer {
     /// elevation 25°; one without lights gets a light over the viewer's
     /// shoulder.
     pub fn new(scene: &Scene, aspect: f64) -> Result<(Renderer, Vec<Warning>), PrepareError> {
-        let opaque = scene.regions.iter().map(|r| !r.transparent).collect();
-        let (prepared, warnings) = Prepared::new(
-            &scene.geometry,
-            &PrepareOptions {
-                opaque: Some(opaque),
-                ..Default::default()
-            },
-        )?;
+        Renderer::with_options(scene, aspect, PrepareOptions::default())
+    }
+
+    /// As [`Renderer::new`], with explicit prepare options (the region
+    /// opacity is always taken from the scene).
+    pub fn with_options(
+        scene: &Scene,
+        aspect: f64,
+        mut opts: PrepareOptions,
+    ) -> Result<(Renderer, Vec<Warning>), PrepareError> {
+        opts.opaque = Some(scene.regions.iter().map(|r| !r.transparent).collect());
+        let (prepared, warnings) = Prepared::new(&scene.geometry, &opts)?;
         let camera = scene
             .camera
             .unwrap_or_else(|| default_camera(&prepared, aspect, 35.0, 25.0, false));
@@ -154,43 +163,68 @@ impl Renderer {
         let gen = self.camera.rays(st.width, st.height);
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
-        const ROWS: usize = 8;
         frame
             .rgb
-            .par_chunks_mut(w * ROWS)
-            .zip(frame.alpha.par_chunks_mut(w * ROWS))
+            .par_chunks_mut(w * TILE)
+            .zip(frame.alpha.par_chunks_mut(w * TILE))
             .enumerate()
             .for_each_init(
-                || Scratch::new(&self.prepared),
-                |s, (tile, (rgb, alpha))| {
-                    let y0 = tile * ROWS;
-                    for (i, px) in rgb.iter_mut().enumerate() {
-                        let (x, y) = ((i % w) as f64, (y0 + i / w) as f64);
-                        let mut acc = [0.0f64; 3];
-                        let mut cover = 0.0;
-                        for sy in 0..n {
-                            for sx in 0..n {
-                                let ray = gen.ray(
-                                    x + (sx as f64 + 0.5) / n as f64,
-                                    y + (sy as f64 + 0.5) / n as f64,
-                                );
-                                let c = match self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
-                                    Some(hit) => {
-                                        cover += 1.0;
-                                        self.shade(&ray, &hit, st.shadows, s)
+                || (Scratch::new(&self.prepared), Vec::new()),
+                |(s, cands), (band, (rgb, alpha))| {
+                    let y0 = band * TILE;
+                    let rows = rgb.len() / w;
+                    for x0 in (0..w).step_by(TILE) {
+                        let x1 = (x0 + TILE).min(w);
+                        // Zones that any ray of this tile may meet; the
+                        // answer for each ray is the same as a full search.
+                        let corners = [(x0, y0), (x1, y0), (x1, y0 + rows), (x0, y0 + rows)]
+                            .map(|(x, y)| gen.ray(x as f64, y as f64));
+                        self.prepared
+                            .frustum_zones(&Frustum::from_corners(corners), cands);
+                        let few = cands.len() <= MAX_TILE_ZONES;
+                        for yy in 0..rows {
+                            for x in x0..x1 {
+                                let i = yy * w + x;
+                                let (fx, fy) = (x as f64, (y0 + yy) as f64);
+                                let mut acc = [0.0f64; 3];
+                                let mut cover = 0.0;
+                                for sy in 0..n {
+                                    for sx in 0..n {
+                                        let ray = gen.ray(
+                                            fx + (sx as f64 + 0.5) / n as f64,
+                                            fy + (sy as f64 + 0.5) / n as f64,
+                                        );
+                                        let hit = if cands.is_empty() {
+                                            None
+                                        } else if few {
+                                            self.prepared.first_hit_in(
+                                                cands,
+                                                &ray,
+                                                0.0,
+                                                f64::INFINITY,
+                                                s,
+                                            )
+                                        } else {
+                                            self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
+                                        };
+                                        let c = match hit {
+                                            Some(hit) => {
+                                                cover += 1.0;
+                                                self.shade(&ray, &hit, st.shadows, s)
+                                            }
+                                            None => self.background,
+                                        };
+                                        for (a, v) in acc.iter_mut().zip(c) {
+                                            *a += v;
+                                        }
                                     }
-                                    None => self.background,
-                                };
-                                for k in 0..3 {
-                                    acc[k] += c[k];
                                 }
+                                let inv = 1.0 / (n * n) as f64;
+                                rgb[i] = acc.map(|v| (v * inv) as f32);
+                                alpha[i] = (cover * inv) as f32;
                             }
                         }
-                        let inv = 1.0 / (n * n) as f64;
-                        *px = acc.map(|v| (v * inv) as f32);
-                        alpha[i] = (cover * inv) as f32;
                     }
-                    let rows = rgb.len() / w;
                     progress(done.fetch_add(rows, Ordering::Relaxed) + rows);
                 },
             );

@@ -1,0 +1,480 @@
+//! The v5 deck writer.
+
+use std::fmt::Write as _;
+use sv_geom::{BodyKind, Op};
+use sv_scene::{RegionProps, Scene};
+
+/// Why a scene cannot be written as a COMGEOM deck.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WriteError {
+    /// A body type that COMGEOM has no card for (the FLUKA bodies).
+    #[error("body {name} is a {kind}, which a COMGEOM deck cannot express")]
+    Unsupported {
+        /// Body name.
+        name: String,
+        /// Its type.
+        kind: BodyKind,
+    },
+    /// A body has the wrong number of values for its type.
+    #[error("body {name} ({kind}) has {found} values, expected {expected}")]
+    WrongCount {
+        /// Body name.
+        name: String,
+        /// Its type.
+        kind: BodyKind,
+        /// Values present.
+        found: usize,
+        /// Values the type takes.
+        expected: usize,
+    },
+    /// A value is infinite or NaN (or an ELL's foci are farther apart than
+    /// its major axis).
+    #[error("body {name} ({kind}) has a value that is not a finite number")]
+    NotFinite {
+        /// Body name.
+        name: String,
+        /// Its type.
+        kind: BodyKind,
+    },
+    /// More bodies than the 5-column signed body number of a region card holds.
+    #[error("a v5 deck holds at most 9999 bodies, the scene has {0}")]
+    TooManyBodies(usize),
+    /// More regions than the 5-column region number holds.
+    #[error("a v5 deck holds at most 99999 regions, the scene has {0}")]
+    TooManyRegions(usize),
+    /// A zone without terms cannot be written.
+    #[error("region {region}: zone {zone} has no terms")]
+    EmptyZone {
+        /// Region name.
+        region: String,
+        /// 1-based zone number.
+        zone: usize,
+    },
+    /// A term refers to a body index that does not exist.
+    #[error("region {region} refers to body index {body}, but the scene has {count} bodies")]
+    BadBodyIndex {
+        /// Region name.
+        region: String,
+        /// The index.
+        body: usize,
+        /// Number of bodies.
+        count: usize,
+    },
+    /// An ident-table value does not fit its 5 columns.
+    #[error("region {region}: {what} {value} does not fit in 5 columns")]
+    FieldTooWide {
+        /// Region name.
+        region: String,
+        /// Which field.
+        what: &'static str,
+        /// The value.
+        value: i64,
+    },
+}
+
+/// A written deck and what could not be carried over exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WrittenDeck {
+    /// The v5 deck.
+    pub text: String,
+    /// One line per approximation or loss: values rounded to fit 10 columns,
+    /// ELL foci converted to the centre form, names replaced by numbers,
+    /// transparency without an air code.
+    pub notes: Vec<String>,
+}
+
+/// Convert an ELL given by foci `F1`, `F2` and major-axis length `L` to the
+/// centre form `V, A, r` of ELL1 (`FORMATS.md` §1):
+/// `V = (F1+F2)/2`, `A = (F2−F1)·L/(2|F2−F1|)`, `r = sqrt(|A|² − (|F2−F1|/2)²)`.
+/// Coincident foci give a sphere of radius `L/2` (A along x).
+pub fn ell_foci_to_centre(p: &[f64]) -> [f64; 7] {
+    let d = [p[3] - p[0], p[4] - p[1], p[5] - p[2]];
+    let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let half = p[6] / 2.0;
+    let a = if m == 0.0 {
+        [half, 0.0, 0.0]
+    } else {
+        d.map(|c| c * p[6] / (2.0 * m))
+    };
+    let a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    let r = (a2 - (m / 2.0) * (m / 2.0)).sqrt();
+    [
+        (p[0] + p[3]) / 2.0,
+        (p[1] + p[4]) / 2.0,
+        (p[2] + p[5]) / 2.0,
+        a[0],
+        a[1],
+        a[2],
+        r,
+    ]
+}
+
+/// A value in at most 10 columns, with a decimal point (so Fortran readers
+/// with implied decimals read it right too). Returns the text and whether it
+/// reads back as exactly `v`.
+fn fmt_value(v: f64) -> (String, bool) {
+    let with_point = |s: &str| -> String {
+        if s.contains('.') {
+            return s.to_string();
+        }
+        match s.find(['e', 'E']) {
+            Some(i) => format!("{}.{}", &s[..i], &s[i..]),
+            None => format!("{s}."),
+        }
+    };
+    let shortest = |forms: [String; 2]| {
+        forms
+            .into_iter()
+            .filter(|s| s.len() <= 10)
+            .min_by_key(String::len)
+    };
+    // Shortest representations that read back exactly, with a point when
+    // it fits (a 10-digit integer only fits without one).
+    let (plain, exp) = (format!("{v}"), format!("{v:e}"));
+    if let Some(s) =
+        shortest([with_point(&plain), with_point(&exp)]).or_else(|| shortest([plain, exp.clone()]))
+    {
+        return (s, true);
+    }
+    // Too long: the most precise rounding that fits and stays finite.
+    for prec in (0..=16).rev() {
+        for s in [format!("{v:.prec$}"), format!("{v:.prec$e}")] {
+            let s = with_point(&s);
+            match s.parse::<f64>() {
+                Ok(r) if s.len() <= 10 && r.is_finite() => return (s, r == v),
+                _ => {}
+            }
+        }
+    }
+    // Rounding overflows (near f64::MAX): cut the mantissa instead.
+    let (m, x) = exp.split_once('e').unwrap_or((&exp, "0"));
+    let keep = 10usize.saturating_sub(x.len() + 1).min(m.len());
+    let s = with_point(&format!("{}e{x}", &m[..keep]));
+    let exact = s.parse::<f64>().ok() == Some(v);
+    (s, exact)
+}
+
+fn card_name(kind: BodyKind) -> Option<&'static str> {
+    use BodyKind::*;
+    Some(match kind {
+        Ell | Ell1 => "ELL1",
+        Sph | Rcc | Rec | Trc | Tec | Ellg | Rpp | Box | Raw | Arb4 | Arb5 | Arb6 | Arb7 | Arb8
+        | Tgc | Tor | Haf | Ars => kind.name(),
+        _ => return None,
+    })
+}
+
+/// Append value cards: six 10-column fields per card; the first card is
+/// `first` (number and type already written), later ones continue it.
+fn value_cards(
+    out: &mut String,
+    first: String,
+    number: usize,
+    vals: &[f64],
+    comment: &str,
+    notes: &mut Vec<String>,
+    what: &str,
+) {
+    let mut line = first;
+    for (i, chunk) in vals.chunks(6).enumerate() {
+        if i > 0 {
+            line = format!("{number:>5}     ");
+        }
+        for (j, &v) in chunk.iter().enumerate() {
+            let (s, exact) = fmt_value(v);
+            if !exact {
+                notes.push(format!(
+                    "{what}: value {} ({v}) written as {s} to fit 10 columns",
+                    i * 6 + j + 1
+                ));
+            }
+            let _ = write!(line, "{s:>10}");
+        }
+        if i == 0 && !comment.is_empty() {
+            let _ = write!(
+                line,
+                "{:width$}{comment}",
+                "",
+                width = 70usize.saturating_sub(line.len())
+            );
+        }
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect::<String>()
+        .trim()
+        .to_string()
+}
+
+/// Write a scene's geometry and region metadata as a v5 deck.
+///
+/// Values are written in the shortest form that reads back to the same
+/// number; only a value that needs more than 10 columns is rounded, and each
+/// such rounding is listed in [`WrittenDeck::notes`]. An ELL in foci form is
+/// written as ELL1 ([`ell_foci_to_centre`]). Body types COMGEOM has no card
+/// for (the FLUKA bodies) are an error.
+pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
+    let g = &scene.geometry;
+    let mut notes = Vec::new();
+    if g.bodies.len() > 9999 {
+        return Err(WriteError::TooManyBodies(g.bodies.len()));
+    }
+    if g.regions.len() > 99999 {
+        return Err(WriteError::TooManyRegions(g.regions.len()));
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<2} {}",
+        scene.units.abbrev(),
+        one_line(&scene.title)
+    );
+    let _ = writeln!(out, "{:>5}{:>5}", g.bodies.len(), g.regions.len());
+
+    for (i, b) in g.bodies.iter().enumerate() {
+        let number = i + 1;
+        let Some(ty) = card_name(b.kind) else {
+            return Err(WriteError::Unsupported {
+                name: b.name.clone(),
+                kind: b.kind,
+            });
+        };
+        let comment = if b.name == number.to_string() {
+            String::new()
+        } else {
+            one_line(&b.name)
+        };
+        if !comment.is_empty() {
+            notes.push(format!("body {} is written as number {number}", b.name));
+        }
+        if b.params.iter().any(|v| !v.is_finite()) {
+            return Err(WriteError::NotFinite {
+                name: b.name.clone(),
+                kind: b.kind,
+            });
+        }
+        let what = format!("body {number} ({ty})");
+        if b.kind == BodyKind::Ars {
+            let bad = || WriteError::WrongCount {
+                name: b.name.clone(),
+                kind: b.kind,
+                found: b.params.len(),
+                expected: 2,
+            };
+            let (c, p) = match b.params.get(0..2) {
+                Some(&[c, p])
+                    if c >= 1.0
+                        && p >= 1.0
+                        && c.fract() == 0.0
+                        && p.fract() == 0.0
+                        && c * p <= 1e9 =>
+                {
+                    (c as usize, p as usize)
+                }
+                _ => return Err(bad()),
+            };
+            if b.params.len() != 2 + 3 * c * p {
+                return Err(WriteError::WrongCount {
+                    name: b.name.clone(),
+                    kind: b.kind,
+                    found: b.params.len(),
+                    expected: 2 + 3 * c * p,
+                });
+            }
+            let mut line = format!("{number:>5}{ty:<5}{c:>10}{p:>10}");
+            if !comment.is_empty() {
+                let _ = write!(
+                    line,
+                    "{:width$}{comment}",
+                    "",
+                    width = 70 - line.len().min(70)
+                );
+            }
+            out.push_str(line.trim_end());
+            out.push('\n');
+            for curve in b.params[2..].chunks(3 * p) {
+                for chunk in curve.chunks(6) {
+                    value_cards(
+                        &mut out,
+                        format!("{number:>5}     "),
+                        number,
+                        chunk,
+                        "",
+                        &mut notes,
+                        &what,
+                    );
+                }
+            }
+            continue;
+        }
+        let expected = b.kind.info().value_count();
+        if b.params.len() != expected {
+            return Err(WriteError::WrongCount {
+                name: b.name.clone(),
+                kind: b.kind,
+                found: b.params.len(),
+                expected,
+            });
+        }
+        let vals: Vec<f64> = if b.kind == BodyKind::Ell {
+            let c = ell_foci_to_centre(&b.params);
+            if c.iter().any(|v| !v.is_finite()) {
+                return Err(WriteError::NotFinite {
+                    name: b.name.clone(),
+                    kind: b.kind,
+                });
+            }
+            notes.push(format!("body {number}: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"));
+            c.to_vec()
+        } else {
+            b.params.clone()
+        };
+        value_cards(
+            &mut out,
+            format!("{number:>5}{ty:<5}"),
+            number,
+            &vals,
+            &comment,
+            &mut notes,
+            &what,
+        );
+    }
+
+    let default_props = RegionProps::default();
+    for (i, r) in g.regions.iter().enumerate() {
+        let number = i + 1;
+        let mut fields = Vec::new();
+        for (zi, z) in r.zones.iter().enumerate() {
+            if z.terms.is_empty() {
+                return Err(WriteError::EmptyZone {
+                    region: r.name.clone(),
+                    zone: zi + 1,
+                });
+            }
+            for (ti, t) in z.terms.iter().enumerate() {
+                if t.body >= g.bodies.len() {
+                    return Err(WriteError::BadBodyIndex {
+                        region: r.name.clone(),
+                        body: t.body,
+                        count: g.bodies.len(),
+                    });
+                }
+                let n = (t.body + 1) as i64 * if t.op == Op::Outside { -1 } else { 1 };
+                let op = if zi > 0 && ti == 0 { "OR" } else { "  " };
+                fields.push(format!("{op}{n:>5}"));
+            }
+        }
+        let comment = if r.name == number.to_string() {
+            String::new()
+        } else {
+            one_line(&r.name)
+        };
+        if !comment.is_empty() {
+            notes.push(format!("region {} is written as number {number}", r.name));
+        }
+        let mut chunks: Vec<&[String]> = fields.chunks(9).collect();
+        if chunks.is_empty() {
+            chunks.push(&[]);
+        }
+        for (ci, chunk) in chunks.iter().enumerate() {
+            let mut line = if ci == 0 {
+                format!("{number:>5} ")
+            } else {
+                "      ".to_string()
+            };
+            for f in *chunk {
+                line.push_str(f);
+            }
+            if ci == 0 && !comment.is_empty() {
+                let _ = write!(
+                    line,
+                    "{:width$}{comment}",
+                    "",
+                    width = 69usize.saturating_sub(line.len())
+                );
+            }
+            out.push_str(line.trim_end());
+            out.push('\n');
+        }
+    }
+    out.push_str("   -1\n");
+
+    for (i, r) in g.regions.iter().enumerate() {
+        let p = scene.regions.get(i).unwrap_or(&default_props);
+        if p.transparent && p.air == 0 {
+            notes.push(format!(
+                "region {}: transparency without an air code is not kept",
+                r.name
+            ));
+        }
+        let mut line = format!("{:>5}", i + 1);
+        for (what, v) in [
+            ("ident code", p.ident),
+            ("air code", p.air),
+            ("material", p.material),
+            ("line of sight", p.los),
+        ] {
+            let s = format!("{v:>5}");
+            if s.len() > 5 {
+                return Err(WriteError::FieldTooWide {
+                    region: r.name.clone(),
+                    what,
+                    value: v,
+                });
+            }
+            line.push_str(&s);
+        }
+        let desc = one_line(&p.description);
+        if !desc.is_empty() {
+            let _ = write!(line, "     {desc}");
+        }
+        out.push_str(&line);
+        out.push('\n');
+    }
+    Ok(WrittenDeck { text: out, notes })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_short_exact_and_fit_ten_columns() {
+        assert_eq!(fmt_value(-303.0232), ("-303.0232".into(), true));
+        assert_eq!(fmt_value(3.0), ("3.".into(), true));
+        assert_eq!(fmt_value(1e20), ("1.e20".into(), true));
+        assert_eq!(fmt_value(1e-7), ("1.e-7".into(), true));
+        assert_eq!(fmt_value(-0.5), ("-0.5".into(), true));
+        let (s, exact) = fmt_value(0.1 + 0.2);
+        assert!(!exact && s.len() <= 10, "{s}");
+        assert_eq!(s.parse::<f64>().unwrap(), 0.30000000);
+        let (s, exact) = fmt_value(-123456.789012345);
+        assert!(!exact && s.len() <= 10, "{s}");
+        assert_eq!(fmt_value(1234567890.0), ("1234567890".into(), true));
+        let (s, exact) = fmt_value(f64::MAX);
+        assert!(
+            !exact && s.len() <= 10 && s.parse::<f64>().unwrap().is_finite(),
+            "{s}"
+        );
+        let (s, exact) = fmt_value(-f64::MAX);
+        assert!(
+            !exact && s.len() <= 10 && s.parse::<f64>().unwrap().is_finite(),
+            "{s}"
+        );
+        assert_eq!(fmt_value(5e-324), ("5.e-324".into(), true));
+    }
+
+    #[test]
+    fn foci_convert_to_centre_form() {
+        // GIFT sample target body 5: F1 (20,0,48), F2 (-20,0,48), L 50.
+        assert_eq!(
+            ell_foci_to_centre(&[20.0, 0.0, 48.0, -20.0, 0.0, 48.0, 50.0]),
+            [0.0, 0.0, 48.0, -25.0, 0.0, 0.0, 15.0]
+        );
+    }
+}

@@ -1,0 +1,404 @@
+//! The FLUKA preprocessor: `#define`, `#undef`, `#if`/`#ifdef`/`#ifndef`,
+//! `#elif`, `#else`, `#endif` and `#include`.
+//!
+//! FLUKA's conditions only ask whether a name is defined (`#if NAME` is true
+//! when `#define NAME` came before, whatever its value). The output is the
+//! list of active lines, each remembering its file and line number so later
+//! diagnostics point into the right file.
+
+use crate::{did_you_mean, Diagnostic, SourceFile};
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// How deep `#include`s may nest (a deeper one is an error).
+pub const MAX_INCLUDE_DEPTH: usize = 16;
+/// Largest file `#include` reads, and largest total text after expansion.
+pub(crate) const MAX_TEXT_BYTES: usize = 64 << 20;
+
+/// One active input line.
+#[derive(Clone, Debug)]
+pub(crate) struct Line {
+    /// Index of the file in [`Output::files`].
+    pub file: usize,
+    /// 1-based line number in that file.
+    pub line: usize,
+    /// The text, without the line break.
+    pub text: String,
+}
+
+/// The preprocessed input.
+#[derive(Debug, Default)]
+pub(crate) struct Output {
+    /// Every file read: the input first, then included files.
+    pub files: Vec<SourceFile>,
+    /// The active lines, in order.
+    pub lines: Vec<Line>,
+    /// Errors.
+    pub errors: Vec<Diagnostic>,
+    /// Errors past [`super::MAX_ERRORS`], counted only.
+    pub suppressed: usize,
+    /// Byte offset of each line start, per file (see [`Output::error`]).
+    pub starts: Vec<Vec<usize>>,
+}
+
+impl Output {
+    fn push_file(&mut self, f: SourceFile) {
+        let starts = std::iter::once(0)
+            .chain(f.text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        self.starts.push(starts);
+        self.files.push(f);
+    }
+
+    /// An error at 1-based `line` and character `col` of file `file`,
+    /// `len` characters long; found through the line table, so reporting
+    /// costs no more than the length of the line.
+    pub fn error(
+        &self,
+        file: usize,
+        line: usize,
+        col: usize,
+        len: usize,
+        msg: impl Into<String>,
+    ) -> Diagnostic {
+        let src = &self.files[file];
+        let starts = &self.starts[file];
+        let start = starts
+            .get(line.saturating_sub(1))
+            .copied()
+            .unwrap_or(src.text.len());
+        let stop = starts.get(line).copied().unwrap_or(src.text.len());
+        let text = &src.text[start..stop];
+        let at = |c: usize| {
+            text.char_indices()
+                .nth(c.saturating_sub(1))
+                .map_or(text.len(), |(b, _)| b)
+        };
+        let (a, b) = (at(col), at(col + len));
+        Diagnostic::error(src, start + a, b.max(a) - a, msg)
+    }
+}
+
+const DIRECTIVES: [&str; 9] = [
+    "define", "undef", "if", "ifdef", "ifndef", "elif", "else", "endif", "include",
+];
+
+struct Frame {
+    /// Whether the enclosing text is active.
+    parent: bool,
+    /// Whether the current branch is active.
+    taking: bool,
+    /// Whether some branch was already taken.
+    taken: bool,
+    seen_else: bool,
+    line: usize,
+    col: usize,
+}
+
+struct Pre {
+    out: Output,
+    defines: HashMap<String, String>,
+    bytes: usize,
+    too_large: bool,
+}
+
+/// Run the preprocessor over `src`, reading `#include`d files relative to the
+/// file that includes them.
+pub(crate) fn run(src: &SourceFile) -> Output {
+    let mut p = Pre {
+        out: Output::default(),
+        defines: HashMap::new(),
+        bytes: 0,
+        too_large: false,
+    };
+    p.out.push_file(src.clone());
+    let mut chain = Vec::new();
+    if let Ok(c) = std::fs::canonicalize(&src.name) {
+        chain.push(c);
+    }
+    p.file(0, 0, &mut chain);
+    p.out
+}
+
+impl Pre {
+    /// Record an error; `None` once [`super::MAX_ERRORS`] are kept (it is
+    /// then only counted).
+    fn err(
+        &mut self,
+        file: usize,
+        line: usize,
+        col: usize,
+        len: usize,
+        msg: impl Into<String>,
+    ) -> Option<&mut Diagnostic> {
+        if self.out.errors.len() >= super::MAX_ERRORS {
+            self.out.suppressed += 1;
+            return None;
+        }
+        let d = self.out.error(file, line, col, len, msg);
+        self.out.errors.push(d);
+        self.out.errors.last_mut()
+    }
+
+    fn file(&mut self, file: usize, depth: usize, chain: &mut Vec<PathBuf>) {
+        let text = self.out.files[file].text.clone();
+        self.bytes += text.len();
+        if self.bytes > MAX_TEXT_BYTES {
+            if !self.too_large {
+                self.too_large = true;
+                self.err(
+                    file,
+                    1,
+                    1,
+                    0,
+                    format!(
+                        "the input is larger than {} MiB after #include expansion",
+                        MAX_TEXT_BYTES >> 20
+                    ),
+                );
+            }
+            return;
+        }
+        let mut stack: Vec<Frame> = Vec::new();
+        for (i, raw) in text.split('\n').enumerate() {
+            let line_no = i + 1;
+            let raw = raw.strip_suffix('\r').unwrap_or(raw);
+            let active = stack.last().is_none_or(|f| f.parent && f.taking);
+            let trimmed = raw.trim_start();
+            if !trimmed.starts_with('#') {
+                if active {
+                    self.out.lines.push(Line {
+                        file,
+                        line: line_no,
+                        text: raw.to_string(),
+                    });
+                }
+                continue;
+            }
+            let col = raw.chars().count() - trimmed.chars().count() + 1;
+            let body = &trimmed[1..];
+            let word_len = body.chars().take_while(|c| c.is_ascii_alphabetic()).count();
+            let word = body[..word_len].to_ascii_lowercase();
+            let rest = body[word_len..].trim();
+            let arg = rest.split_whitespace().next();
+            let arg_col = arg.map(|a| {
+                col + 1
+                    + word_len
+                    + body[word_len..]
+                        .find(a)
+                        .map_or(0, |b| body[word_len..][..b].chars().count())
+            });
+            match word.as_str() {
+                "define" | "undef" if active => match arg {
+                    Some(name) => {
+                        if word == "define" {
+                            let value = rest[name.len()..].trim().to_string();
+                            self.defines.insert(name.to_string(), value);
+                        } else {
+                            self.defines.remove(name);
+                        }
+                    }
+                    None => {
+                        self.err(
+                            file,
+                            line_no,
+                            col,
+                            word_len + 1,
+                            format!("`#{word}` needs a name"),
+                        );
+                    }
+                },
+                "if" | "ifdef" | "ifndef" => {
+                    let cond = match arg {
+                        Some(name) => self.defines.contains_key(name) != (word == "ifndef"),
+                        None => {
+                            if active {
+                                self.err(
+                                    file,
+                                    line_no,
+                                    col,
+                                    word_len + 1,
+                                    format!("`#{word}` needs a name"),
+                                );
+                            }
+                            false
+                        }
+                    };
+                    stack.push(Frame {
+                        parent: active,
+                        taking: cond,
+                        taken: cond,
+                        seen_else: false,
+                        line: line_no,
+                        col,
+                    });
+                }
+                "elif" => {
+                    let defined = arg.is_some_and(|n| self.defines.contains_key(n));
+                    match stack.last_mut() {
+                        None => {
+                            self.err(file, line_no, col, 5, "`#elif` without `#if`");
+                        }
+                        Some(f) if f.seen_else => {
+                            self.err(file, line_no, col, 5, "`#elif` after `#else`");
+                        }
+                        Some(f) => {
+                            let parent = f.parent;
+                            f.taking = !f.taken && defined;
+                            f.taken |= f.taking;
+                            if arg.is_none() && parent {
+                                self.err(file, line_no, col, 5, "`#elif` needs a name");
+                            }
+                        }
+                    }
+                }
+                "else" => match stack.last_mut() {
+                    None => {
+                        self.err(file, line_no, col, 5, "`#else` without `#if`");
+                    }
+                    Some(f) if f.seen_else => {
+                        let first = f.line;
+                        let hint = format!("the `#if` is on line {first}");
+                        if let Some(d) =
+                            self.err(file, line_no, col, 5, "second `#else` for the same `#if`")
+                        {
+                            d.hint = Some(hint);
+                        }
+                    }
+                    Some(f) => {
+                        f.taking = !f.taken;
+                        f.taken = true;
+                        f.seen_else = true;
+                    }
+                },
+                "endif" => {
+                    let closed = stack.pop().is_some();
+                    if !closed {
+                        self.err(file, line_no, col, 6, "`#endif` without `#if`");
+                    }
+                }
+                "include" if active => {
+                    let name = rest
+                        .trim_matches(|c| c == '"' || c == '\'' || c == '<' || c == '>')
+                        .trim();
+                    if name.is_empty() {
+                        self.err(file, line_no, col, 8, "`#include` needs a file name");
+                    } else {
+                        let ac = arg_col.unwrap_or(col);
+                        self.include(file, line_no, ac, rest.chars().count(), name, depth, chain);
+                    }
+                }
+                "define" | "undef" | "include" => {}
+                _ if active => {
+                    let shown: String =
+                        trimmed.split_whitespace().next().unwrap_or("#").to_string();
+                    let d = self.err(
+                        file,
+                        line_no,
+                        col,
+                        shown.chars().count(),
+                        format!("unknown preprocessor directive `{shown}`"),
+                    );
+                    if let (Some(d), Some(s)) = (d, did_you_mean(&word, DIRECTIVES)) {
+                        d.hint = Some(format!("did you mean `#{s}`?"));
+                    }
+                }
+                _ => {}
+            }
+        }
+        for f in stack {
+            self.err(file, f.line, f.col, 3, "`#if` is never closed by `#endif`");
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn include(
+        &mut self,
+        file: usize,
+        line: usize,
+        col: usize,
+        len: usize,
+        name: &str,
+        depth: usize,
+        chain: &mut Vec<PathBuf>,
+    ) {
+        if depth + 1 > MAX_INCLUDE_DEPTH {
+            self.err(
+                file,
+                line,
+                col,
+                len,
+                format!("`#include` nested more than {MAX_INCLUDE_DEPTH} levels deep"),
+            );
+            return;
+        }
+        let base = Path::new(&self.out.files[file].name)
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let path = base.join(name);
+        let canon = match std::fs::canonicalize(&path) {
+            Ok(c) => c,
+            Err(e) => {
+                self.err(
+                    file,
+                    line,
+                    col,
+                    len,
+                    format!("cannot include `{}`: {e}", path.display()),
+                );
+                return;
+            }
+        };
+        if chain.contains(&canon) {
+            self.err(
+                file,
+                line,
+                col,
+                len,
+                format!("`{}` includes itself (recursive #include)", path.display()),
+            );
+            return;
+        }
+        let text = match read_limited(&canon) {
+            Ok(t) => t,
+            Err(e) => {
+                self.err(
+                    file,
+                    line,
+                    col,
+                    len,
+                    format!("cannot include `{}`: {e}", path.display()),
+                );
+                return;
+            }
+        };
+        self.out
+            .push_file(SourceFile::new(path.display().to_string(), text));
+        let idx = self.out.files.len() - 1;
+        chain.push(canon);
+        self.file(idx, depth + 1, chain);
+        chain.pop();
+    }
+}
+
+/// Read a regular file of at most [`MAX_TEXT_BYTES`] bytes (never a device
+/// or a pipe, which could block).
+fn read_limited(path: &Path) -> std::io::Result<String> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
+    if meta.len() > MAX_TEXT_BYTES as u64 {
+        return Err(std::io::Error::other(format!(
+            "larger than {} MiB",
+            MAX_TEXT_BYTES >> 20
+        )));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_TEXT_BYTES as u64)
+        .read_to_end(&mut bytes)?;
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}

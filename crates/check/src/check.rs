@@ -31,6 +31,11 @@ pub struct CheckOptions {
     /// Refuse to fire more grid rays than this (guards against a tiny
     /// `--spacing`).
     pub max_rays: u64,
+    /// Count overlaps with air regions as problems. By default they are
+    /// listed apart ([`Report::air_overlaps`]) and do not make the report
+    /// unclean: GIFT and BRL-CAD let an air region give way to a solid one,
+    /// and decks rely on it (an "inside air" box around the crew).
+    pub strict_air: bool,
 }
 
 impl Default for CheckOptions {
@@ -42,6 +47,7 @@ impl Default for CheckOptions {
             random: 0,
             seed: 1971,
             max_rays: 50_000_000,
+            strict_air: false,
         }
     }
 }
@@ -69,6 +75,8 @@ pub struct Overlap {
     pub regions: [String; 2],
     /// Their indices (0-based, deck order).
     pub region_indices: [usize; 2],
+    /// True when at least one of them is an air region.
+    pub air: bool,
     /// How much.
     #[serde(flatten)]
     pub problem: Problem,
@@ -121,8 +129,12 @@ pub struct Report {
     pub tolerance: f64,
     /// The universe, if voids were looked for.
     pub universe: Option<UniverseInfo>,
-    /// Overlapping pairs, most severe (largest total length) first.
+    /// Overlapping pairs, most severe (largest total length) first. Pairs
+    /// with an air region are here only with [`CheckOptions::strict_air`].
     pub overlaps: Vec<Overlap>,
+    /// Overlapping pairs in which at least one region is air, when they are
+    /// not counted as problems.
+    pub air_overlaps: Vec<Overlap>,
     /// Voids, largest first.
     pub voids: Vec<Void>,
     /// Regions outside the universe, largest first.
@@ -205,6 +217,21 @@ impl Report {
             let _ = writeln!(s, "{} overlapping pairs:", self.overlaps.len());
             header(&mut s, "regions");
             for o in &self.overlaps {
+                row(
+                    &mut s,
+                    format!("{} × {}", o.regions[0], o.regions[1]),
+                    &o.problem,
+                );
+            }
+        }
+        if !self.air_overlaps.is_empty() {
+            let _ = writeln!(
+                s,
+                "{} overlapping pairs with air regions (not counted: air gives way to solids, as in GIFT and BRL-CAD; --strict-air counts them):",
+                self.air_overlaps.len()
+            );
+            header(&mut s, "regions");
+            for o in &self.air_overlaps {
                 row(
                     &mut s,
                     format!("{} × {}", o.regions[0], o.regions[1]),
@@ -303,13 +330,19 @@ struct Grid {
     first: [u64; 4],
 }
 
+/// Grid cells of about `d` across `len`: rounding noise (2/0.01 =
+/// 200.00000000000003) does not add a cell.
+fn cells(len: f64, d: f64) -> f64 {
+    (len / d * (1.0 - 1e-12)).ceil()
+}
+
 const FRAC_U: f64 = 0.561_803_398_874_989_5;
 const FRAC_V: f64 = 0.458_578_643_762_690_5;
 
 impl Grid {
     fn new(lo: DVec3, hi: DVec3, d: f64) -> Grid {
         let size = hi - lo;
-        let count = |len: f64| ((len / d).ceil() as u64).max(1);
+        let count = |len: f64| (cells(len, d) as u64).max(1);
         let mut n = [(0, 0); 3];
         let mut cell = [(0.0, 0.0); 3];
         let mut first = [0u64; 4];
@@ -415,7 +448,7 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let mut count = 0f64;
     for k in 0..3 {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-        count += (size[u] / spacing).ceil().max(1.0) * (size[v] / spacing).ceil().max(1.0);
+        count += cells(size[u], spacing).max(1.0) * cells(size[v], spacing).max(1.0);
     }
     if count > opts.max_rays as f64 {
         return Err(CheckError::Option(format!(
@@ -480,17 +513,28 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     };
     let name = |r: u32| model.names[r as usize].clone();
     let mut overlaps = Vec::new();
+    let mut air_overlaps = Vec::new();
     let mut voids = Vec::new();
     let mut outside = Vec::new();
     let mut entries: Vec<_> = all.into_iter().collect();
     entries.sort_by(|a, b| b.1.total.total_cmp(&a.1.total).then(a.0.cmp(&b.0)));
     for (k, a) in &entries {
         match *k {
-            FindingKind::Overlap(x, y) => overlaps.push(Overlap {
-                regions: [name(x), name(y)],
-                region_indices: [x as usize, y as usize],
-                problem: problem(a),
-            }),
+            FindingKind::Overlap(x, y) => {
+                let air = model.air.get(x as usize).copied().unwrap_or(false)
+                    || model.air.get(y as usize).copied().unwrap_or(false);
+                let o = Overlap {
+                    regions: [name(x), name(y)],
+                    region_indices: [x as usize, y as usize],
+                    air,
+                    problem: problem(a),
+                };
+                if air && !opts.strict_air {
+                    air_overlaps.push(o);
+                } else {
+                    overlaps.push(o);
+                }
+            }
             FindingKind::Void(x, y) => voids.push(Void {
                 between: [x.map(name), y.map(name)],
                 problem: problem(a),
@@ -514,6 +558,7 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
             .clone()
             .map(|description| UniverseInfo { description }),
         overlaps,
+        air_overlaps,
         voids,
         outside,
         seconds: start.elapsed().as_secs_f64(),

@@ -69,6 +69,8 @@ pub struct Model {
     pub universe_note: Option<String>,
     /// Densities (g/cm³) by region, when known.
     pub densities: Vec<Option<f64>>,
+    /// Air regions (non-zero COMGEOM air code), by index.
+    pub air: Vec<bool>,
     /// Centimetres per model unit.
     pub cm_per_unit: f64,
     /// Short name of the model unit (`in`, `mm`…).
@@ -206,6 +208,9 @@ impl Model {
                 universe,
                 universe_note: note,
                 densities: scene.regions.iter().map(|r| r.density).collect(),
+                air: (0..g.regions.len())
+                    .map(|i| scene.regions.get(i).is_some_and(|r| r.air != 0))
+                    .collect(),
                 cm_per_unit: scene.units.mm() / 10.0,
                 unit: scene.units.abbrev().to_string(),
                 hull,

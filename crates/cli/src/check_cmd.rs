@@ -49,6 +49,9 @@ pub struct CheckArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Count overlaps with air regions (non-zero air code) as problems too.
+    #[arg(long)]
+    pub strict_air: bool,
     #[command(flatten)]
     pub check: UniverseArgs,
     #[command(flatten)]
@@ -127,6 +130,12 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
         .map_err(|e| CliError::Runtime(format!("error: cannot start threads: {e}")))
 }
 
+/// Print a report; a closed pipe (`| head`) is not an error.
+fn emit(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
 fn check_err(e: CheckError) -> CliError {
     let hint = match &e {
         CheckError::UnknownUniverse(_) => "; name a region or body of the deck",
@@ -168,15 +177,16 @@ pub fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
         tolerance: a.check.tolerance,
         random: a.random,
         seed: a.seed,
+        strict_air: a.strict_air,
         ..Default::default()
     };
     let report = pool(a.check.threads)?
         .install(|| sv_check::check(&m, &opts))
         .map_err(check_err)?;
     if a.json {
-        println!("{}", report.to_json());
+        emit(&format!("{}\n", report.to_json()));
     } else {
-        print!("{}", report.to_table());
+        emit(&report.to_table());
     }
     Ok(if report.is_clean() {
         ExitCode::SUCCESS
@@ -385,9 +395,9 @@ pub fn volume(a: VolumeArgs) -> Result<ExitCode, CliError> {
         .install(|| sv_check::volumes(&m, &opts))
         .map_err(check_err)?;
     if a.json {
-        println!("{}", r.to_json());
+        emit(&format!("{}\n", r.to_json()));
     } else {
-        print!("{}", r.to_table());
+        emit(&r.to_table());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -223,7 +223,8 @@ impl Canvas {
 
 /// The section view with its legend strip underneath: `(width, height,
 /// pixels)`, display colours row-major from the top left. The strip lists
-/// every region in the picture (largest first), then the overlapping pairs
+/// every region in the picture (largest first; name and description),
+/// then the overlapping pairs
 /// and the void, each with its swatch; at most 80 entries, then a count of
 /// the rest (the full list is in the legend file).
 pub fn with_legend(s: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
@@ -232,7 +233,14 @@ pub fn with_legend(s: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
     let mut entries: Vec<(Swatch, String)> = s
         .legend
         .iter()
-        .map(|e| (Swatch::Solid(region_colour(&e.label)), e.label.clone()))
+        .map(|e| {
+            let text = if e.description.is_empty() || e.description == e.label {
+                e.label.clone()
+            } else {
+                format!("{} {}", e.label, e.description)
+            };
+            (Swatch::Solid(region_colour(&e.label)), text)
+        })
         .collect();
     entries.extend(
         s.overlaps

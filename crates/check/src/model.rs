@@ -71,6 +71,8 @@ pub struct Model {
     pub densities: Vec<Option<f64>>,
     /// Air regions (non-zero COMGEOM air code), by index.
     pub air: Vec<bool>,
+    /// Region descriptions (the deck's comment column), by index.
+    pub descriptions: Vec<String>,
     /// Centimetres per model unit.
     pub cm_per_unit: f64,
     /// Short name of the model unit (`in`, `mm`…).
@@ -208,6 +210,14 @@ impl Model {
                 universe,
                 universe_note: note,
                 densities: scene.regions.iter().map(|r| r.density).collect(),
+                descriptions: (0..g.regions.len())
+                    .map(|i| {
+                        scene
+                            .regions
+                            .get(i)
+                            .map_or(String::new(), |r| r.description.trim().to_string())
+                    })
+                    .collect(),
                 air: (0..g.regions.len())
                     .map(|i| scene.regions.get(i).is_some_and(|r| r.air != 0))
                     .collect(),

@@ -86,6 +86,10 @@ pub struct SliceOptions {
     pub size: Option<(u32, u32)>,
     /// Overlap and void tolerance; default [`default_tolerance`].
     pub tolerance: Option<f64>,
+    /// Draw overlaps with air regions as overlaps too. By default the
+    /// solid region is drawn there, as GIFT and BRL-CAD resolve them (see
+    /// [`CheckOptions::strict_air`](crate::CheckOptions::strict_air)).
+    pub strict_air: bool,
 }
 
 /// One line of the legend.
@@ -93,6 +97,8 @@ pub struct SliceOptions {
 pub struct LegendEntry {
     /// Region name, `A × B` for an overlap, `void` for voids.
     pub label: String,
+    /// The region's description (empty for overlaps and voids).
+    pub description: String,
     /// Colour as `#rrggbb`.
     pub colour: String,
     /// Pixels of the picture it covers.
@@ -213,6 +219,7 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
     let pad = 0.01 * ew + dx;
     let centre = pl.origin + pl.u * uc + pl.v * vc;
     let wu = w as usize;
+    let air = |r: u32| model.air.get(r as usize).copied().unwrap_or(false);
     type Row = (Vec<u32>, BTreeMap<(u32, u32), u64>);
     let rows: Vec<Row> = (0..h)
         .into_par_iter()
@@ -238,6 +245,19 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
                 let mut pairs = BTreeMap::new();
                 for f in &rc.findings {
                     let code = match f.kind {
+                        FindingKind::Overlap(a, b) if !opts.strict_air && (air(a) || air(b)) => {
+                            // Air gives way: the solid region is drawn (two
+                            // air regions: the first claim stays).
+                            if air(a) != air(b) {
+                                let solid = if air(a) { b } else { a };
+                                for c in &mut class[range(f.t0, f.t1)] {
+                                    if *c != Slice::OVERLAP && *c != Slice::VOID {
+                                        *c = solid + 1;
+                                    }
+                                }
+                            }
+                            continue;
+                        }
                         FindingKind::Overlap(..) => Slice::OVERLAP,
                         FindingKind::Void(..) => Slice::VOID,
                         FindingKind::Outside(_) => continue,
@@ -308,6 +328,7 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         .filter(|(_, n)| **n > 0)
         .map(|(r, n)| LegendEntry {
             label: model.names[r].clone(),
+            description: model.descriptions.get(r).cloned().unwrap_or_default(),
             colour: hex(colours[r]),
             pixels: *n,
             area: *n as f64 * px_area,
@@ -319,6 +340,7 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         .filter(|(_, n)| *n > 0)
         .map(|((a, b), n)| LegendEntry {
             label: format!("{} × {}", model.names[a as usize], model.names[b as usize]),
+            description: String::new(),
             colour: hex(OVERLAP_COLOUR),
             pixels: n,
             area: n as f64 * px_area,
@@ -327,6 +349,7 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
     overlaps.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.label.cmp(&b.label)));
     let void = (void_px > 0).then(|| LegendEntry {
         label: "void".into(),
+        description: String::new(),
         colour: hex(VOID_COLOUR),
         pixels: void_px,
         area: void_px as f64 * px_area,

@@ -89,6 +89,10 @@ pub struct SliceArgs {
     /// Leave the legend strip (names and swatches) off the picture.
     #[arg(long)]
     pub no_legend: bool,
+    /// Draw overlaps with air regions as overlaps (default: the solid
+    /// region is drawn there).
+    #[arg(long)]
+    pub strict_air: bool,
     #[command(flatten)]
     pub check: UniverseArgs,
     #[command(flatten)]
@@ -300,6 +304,7 @@ pub fn slice(a: SliceArgs) -> Result<ExitCode, CliError> {
         extent,
         size,
         tolerance: a.check.tolerance,
+        strict_air: a.strict_air,
     };
     let s = pool(a.check.threads)?
         .install(|| sv_check::slice(&m, &opts))

@@ -15,6 +15,7 @@ fn opts(plane: Plane) -> SliceOptions {
         extent: Some((4.0, 2.0)),
         size: Some((200, 100)),
         tolerance: None,
+        strict_air: false,
     }
 }
 
@@ -106,6 +107,7 @@ REGION CORE  = +s
             extent: None,
             size: Some((100, 100)),
             tolerance: None,
+            strict_air: false,
         },
     )
     .unwrap();
@@ -143,6 +145,7 @@ fn a_size_alone_keeps_pixels_square() {
             extent: None,
             size: Some((300, 300)),
             tolerance: None,
+            strict_air: false,
         },
     )
     .unwrap();
@@ -150,4 +153,22 @@ fn a_size_alone_keeps_pixels_square() {
     // The box is 3.5 × 2: the view is 3.5 · 1.08 square (up to the
     // engine's padding of the bounds).
     assert!((s.extent.0 - 3.5 * 1.08).abs() < 1e-4, "{:?}", s.extent);
+}
+
+#[test]
+fn air_gives_way_to_solids_in_sections_unless_strict() {
+    let mut sc = crate::scene(SPHERES);
+    sc.regions[1].air = 5;
+    sc.regions[1].description = "INSIDE AIR".into();
+    let (m, _) = sv_check::Model::new(&sc, &UniverseChoice::None).unwrap();
+    let s = slice(&m, &opts(Plane::axis(2, 0.0))).unwrap();
+    assert_eq!(class_at(&s, 0.0, 0.0), 1, "the solid sphere A is drawn");
+    assert!(s.overlaps.is_empty());
+    let b = s.legend.iter().find(|e| e.label == "B").unwrap();
+    assert_eq!(b.description, "INSIDE AIR");
+    let mut o = opts(Plane::axis(2, 0.0));
+    o.strict_air = true;
+    let s = slice(&m, &o).unwrap();
+    assert_eq!(class_at(&s, 0.0, 0.0), Slice::OVERLAP);
+    assert_eq!(s.overlaps.len(), 1);
 }

@@ -139,6 +139,9 @@ pub struct Report {
     pub voids: Vec<Void>,
     /// Regions outside the universe, largest first.
     pub outside: Vec<Outside>,
+    /// Regions no ray crossed: empty (subtracted away entirely) or thinner
+    /// than the spacing. Listed for information; not counted as problems.
+    pub unseen: Vec<String>,
     /// Wall-clock time of the ray casting, seconds.
     pub seconds: f64,
 }
@@ -265,6 +268,14 @@ impl Report {
                     row(&mut s, o.region.clone(), &o.problem);
                 }
             }
+        }
+        if !self.unseen.is_empty() {
+            let _ = writeln!(
+                s,
+                "{} regions met by no ray (empty, or thinner than the spacing): {}",
+                self.unseen.len(),
+                self.unseen.join(", ")
+            );
         }
         let _ = writeln!(
             s,
@@ -462,12 +473,14 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let n = n_grid + opts.random;
     const CHUNK: u64 = 256;
     let chunks = n.div_ceil(CHUNK);
-    let parts: Vec<HashMap<FindingKind, Acc>> = (0..chunks)
+    let nreg = model.names.len();
+    let parts: Vec<(HashMap<FindingKind, Acc>, Vec<bool>)> = (0..chunks)
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),
             |rc, c| {
                 let mut acc: HashMap<FindingKind, Acc> = HashMap::new();
+                let mut seen = vec![false; nreg];
                 for idx in c * CHUNK..((c + 1) * CHUNK).min(n) {
                     let (ray, t0, t1, area) = if idx < n_grid {
                         let (r, t1, a) = grid.ray(idx);
@@ -479,6 +492,9 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
                         }
                     };
                     rc.run(&ray, t0, t1, tol);
+                    for p in &rc.parts {
+                        seen[p.region as usize] = true;
+                    }
                     for f in &rc.findings {
                         let len = f.t1 - f.t0;
                         let e = Acc {
@@ -492,12 +508,16 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
                         acc.entry(f.kind).and_modify(|a| a.merge(&e)).or_insert(e);
                     }
                 }
-                acc
+                (acc, seen)
             },
         )
         .collect();
     let mut all: HashMap<FindingKind, Acc> = HashMap::new();
-    for p in parts {
+    let mut seen = vec![false; nreg];
+    for (p, s) in parts {
+        for (a, b) in seen.iter_mut().zip(s) {
+            *a |= b;
+        }
         let mut keys: Vec<_> = p.into_iter().collect();
         keys.sort_by_key(|a| a.0);
         for (k, a) in keys {
@@ -561,6 +581,10 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
         air_overlaps,
         voids,
         outside,
+        unseen: (0..nreg)
+            .filter(|&r| !seen[r])
+            .map(|r| model.names[r].clone())
+            .collect(),
         seconds: start.elapsed().as_secs_f64(),
     })
 }

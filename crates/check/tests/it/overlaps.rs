@@ -195,6 +195,7 @@ fn json_report_has_the_documented_shape() {
         "air_overlaps",
         "voids",
         "outside",
+        "unseen",
         "seconds",
     ] {
         assert!(v.get(key).is_some(), "missing {key}");
@@ -292,3 +293,25 @@ fn overlaps_with_air_are_listed_apart_unless_strict() {
     assert_eq!(strict.overlaps.len(), 1);
     assert!(!strict.is_clean());
 }
+
+#[test]
+fn empty_regions_are_listed_as_unseen() {
+    let text =
+        format!("{SPHERES}BODY c RPP 5 6 5 6 5 6\nBODY d RPP 4 7 4 7 4 7\nREGION GONE = +c -d\n");
+    let r = check(
+        &model(&text, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(r.unseen, ["GONE".to_string()]);
+    assert!(r.to_table().contains("met by no ray"));
+    let clean = check(
+        &model(CLEAN_PAIR, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    assert!(clean.unseen.is_empty());
+}
+
+const CLEAN_PAIR: &str =
+    "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION A = +a\nREGION B = +b\n";

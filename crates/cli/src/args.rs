@@ -23,6 +23,8 @@ pub enum Command {
     Bodies,
     /// Measure primary rays per second per core.
     Bench(BenchArgs),
+    /// Write a scene or deck as a v5 COMGEOM deck (.cg) or in the scene language (.sv).
+    Convert(ConvertArgs),
     /// Render a director's script to numbered PNG frames, a GIF, an MP4 and a contact sheet.
     Film(FilmArgs),
     /// Find overlapping regions and voids (exit 1 when any are found).
@@ -192,4 +194,15 @@ pub struct FilmArgs {
     /// Print what would be rendered and exit.
     #[arg(long)]
     pub dry_run: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    /// Scene, deck or FLUKA input.
+    pub input: PathBuf,
+    /// Output: `.cg` for a v5 COMGEOM deck, `.sv` for the scene language.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub input_args: InputArgs,
 }

@@ -1,4 +1,4 @@
-use crate::args::{BenchArgs, Cli, Command, InfoArgs, RenderArgs, ShootArgs};
+use crate::args::{BenchArgs, Cli, Command, ConvertArgs, InfoArgs, RenderArgs, ShootArgs};
 use crate::load::{input, load, parse_vec3, renderer, size, CliError};
 use clap::Parser;
 use std::collections::BTreeMap;
@@ -21,6 +21,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Bodies => bodies(),
         Command::Bench(a) => bench(a),
         Command::Film(a) => crate::film_cmd::film(a),
+        Command::Convert(a) => convert(a),
         Command::Check(a) => crate::check_cmd::check(a),
         Command::Slice(a) => crate::check_cmd::slice(a),
         Command::Volume(a) => crate::check_cmd::volume(a),
@@ -398,5 +399,33 @@ fn bench(a: BenchArgs) -> Result<ExitCode, CliError> {
             );
         }
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn convert(a: ConvertArgs) -> Result<ExitCode, CliError> {
+    let scene = load(Some(&a.input), &a.input_args)?;
+    let ext = a
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let text = match ext.as_deref() {
+        Some("cg") => {
+            let deck = sv_formats::comgeom::write(&scene).map_err(|e| input(e.to_string()))?;
+            for n in &deck.notes {
+                eprintln!("note: {n}");
+            }
+            deck.text
+        }
+        Some("sv") => sv_formats::native::write(&scene),
+        _ => {
+            return Err(input(format!(
+                "cannot tell the format of `{}`: use .cg or .sv",
+                a.output.display()
+            )))
+        }
+    };
+    sv_output::write_atomic(&a.output, |w| w.write_all(text.as_bytes()))
+        .map_err(|e| CliError::Runtime(format!("error: {e}")))?;
     Ok(ExitCode::SUCCESS)
 }

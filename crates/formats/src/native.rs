@@ -448,15 +448,20 @@ fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnost
                 Some('+') => (Op::Inside, &t.text[1..]),
                 Some('-') => (Op::Outside, &t.text[1..]),
                 _ => {
-                    errors.push(
-                        cx.err(
-                            t,
-                            format!("expected `+body`, `-body` or OR, found `{}`", t.text),
-                        )
-                        .with_hint(
-                            "write `+1` to intersect with body 1 and `-2` to subtract body 2",
-                        ),
-                    );
+                    let d = match did_you_mean(&t.text, REGION_PROPS.iter().copied()) {
+                        Some(p) => cx
+                            .err(t, format!("unknown region property `{}`", t.text))
+                            .with_hint(format!("did you mean `{p}`?")),
+                        None => cx
+                            .err(
+                                t,
+                                format!("expected `+body`, `-body` or OR, found `{}`", t.text),
+                            )
+                            .with_hint(
+                                "write `+1` to intersect with body 1 and `-2` to subtract body 2",
+                            ),
+                    };
+                    errors.push(d);
                     continue;
                 }
             };
@@ -737,13 +742,27 @@ fn include(
     };
     let src = SourceFile::new(path.display().to_string(), text);
     let format = crate::Format::detect(&path, &src.text);
-    if format == crate::Format::Native {
+    let loaded = if format == crate::Format::Native {
+        // An included scene is read on its own, then merged (and scaled
+        // into this scene's units) like any deck.
+        let mut inner = Scene::default();
+        inner.notes.push(UNITS_UNSET.into());
+        let before = cx.diags.errors().count();
         stack.push(path);
-        read_into(&src, opts, scene, cx.diags, warnings, stack);
+        read_into(&src, opts, &mut inner, cx.diags, warnings, stack);
         stack.pop();
-        return;
-    }
-    match crate::load_source(&src, format, opts) {
+        inner.notes.retain(|n| n != UNITS_UNSET);
+        if cx.diags.errors().count() > before {
+            return;
+        }
+        Ok(Loaded {
+            scene: inner,
+            warnings: Vec::new(),
+        })
+    } else {
+        crate::load_source(&src, format, opts)
+    };
+    match loaded {
         Ok(loaded) => {
             warnings.extend(loaded.warnings);
             if let Err(msg) = merge(scene, loaded.scene) {
@@ -810,6 +829,16 @@ pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
         scene.title = other.title;
     }
     scene.notes.extend(other.notes);
+    // A wrapper scene that only includes a model keeps the model's view.
+    if scene.camera.is_none() {
+        scene.camera = other.camera;
+    }
+    if scene.lights.is_empty() {
+        scene.lights = other.lights;
+    }
+    if scene.size.is_none() {
+        scene.size = other.size;
+    }
     Ok(())
 }
 

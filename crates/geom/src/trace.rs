@@ -210,11 +210,13 @@ impl Prepared {
     }
 
     /// As [`Prepared::first_hit`], but looking only at `zones` (from
-    /// [`Prepared::frustum_zones`] for a bundle of rays). Gives exactly the
-    /// same answer for any ray of that bundle.
+    /// [`Prepared::frustum_zones`] for a bundle of rays), each given with a
+    /// lower bound of the distance at which any ray of the bundle can enter
+    /// it, sorted by that bound. Gives exactly the same answer for any ray
+    /// of the bundle; stops as soon as no remaining zone can come nearer.
     pub fn first_hit_in(
         &self,
-        zones: &[u32],
+        zones: &[(f64, u32)],
         ray: &Ray,
         tmin: f64,
         tmax: f64,
@@ -223,10 +225,25 @@ impl Prepared {
         s.new_ray();
         let mut best: Option<Hit> = None;
         let mut limit = tmax;
-        for &zi in zones {
+        for &(near, zi) in zones {
+            if near > limit {
+                break;
+            }
             self.consider(zi, ray, tmin, &mut limit, &mut best, s);
         }
         best
+    }
+
+    /// Order `zones` for [`Prepared::first_hit_in`] for rays starting at
+    /// `eye`: each zone with the distance from `eye` to its bounds.
+    pub fn by_distance(&self, zones: &[u32], eye: DVec3, out: &mut Vec<(f64, u32)>) {
+        out.clear();
+        out.extend(zones.iter().map(|&zi| {
+            let b = &self.zones[zi as usize].bounds;
+            let d = (b.min - eye).max(eye - b.max).max(DVec3::ZERO);
+            (d.length(), zi)
+        }));
+        out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     }
 
     /// Test one zone for the first hit, keeping the best so far: the lowest

@@ -163,14 +163,15 @@ impl Renderer {
         let gen = self.camera.rays(st.width, st.height);
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
+        let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
         frame
             .rgb
             .par_chunks_mut(w * TILE)
             .zip(frame.alpha.par_chunks_mut(w * TILE))
             .enumerate()
             .for_each_init(
-                || (Scratch::new(&self.prepared), Vec::new()),
-                |(s, cands), (band, (rgb, alpha))| {
+                || (Scratch::new(&self.prepared), Vec::new(), Vec::new()),
+                |(s, cands, sorted), (band, (rgb, alpha))| {
                     let y0 = band * TILE;
                     let rows = rgb.len() / w;
                     for x0 in (0..w).step_by(TILE) {
@@ -182,6 +183,16 @@ impl Renderer {
                         self.prepared
                             .frustum_zones(&Frustum::from_corners(corners), cands);
                         let few = cands.len() <= MAX_TILE_ZONES;
+                        // Perspective rays all start at the eye, so the
+                        // distance from the eye to a zone's box bounds
+                        // where they can enter it. Orthographic rays start
+                        // on the image plane: no useful bound, keep order.
+                        if ortho {
+                            sorted.clear();
+                            sorted.extend(cands.iter().map(|&z| (f64::NEG_INFINITY, z)));
+                        } else {
+                            self.prepared.by_distance(cands, self.camera.eye, sorted);
+                        }
                         for yy in 0..rows {
                             for x in x0..x1 {
                                 let i = yy * w + x;
@@ -198,7 +209,7 @@ impl Renderer {
                                             None
                                         } else if few {
                                             self.prepared.first_hit_in(
-                                                cands,
+                                                sorted,
                                                 &ray,
                                                 0.0,
                                                 f64::INFINITY,

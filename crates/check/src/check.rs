@@ -31,6 +31,10 @@ pub struct CheckOptions {
     /// Refuse to fire more grid rays than this (guards against a tiny
     /// `--spacing`).
     pub max_rays: u64,
+    /// Fire the rays through this box instead of [`Model::bounds`] (to look
+    /// closely at part of a model, or at a model without finite regions).
+    /// Nothing outside it is checked.
+    pub bounds: Option<sv_math::Aabb>,
     /// Count overlaps with air regions as problems. By default they are
     /// listed apart ([`Report::air_overlaps`]) and do not make the report
     /// unclean: GIFT and BRL-CAD let an air region give way to a solid one,
@@ -48,6 +52,7 @@ impl Default for CheckOptions {
             seed: 1971,
             max_rays: 50_000_000,
             strict_air: false,
+            bounds: None,
         }
     }
 }
@@ -417,7 +422,15 @@ fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)
 /// rayon pool.
 pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let start = Instant::now();
-    let bx = model.bounds();
+    let bx = match opts.bounds {
+        Some(b) if !b.is_empty() && b.is_finite() && b.size().min_element() >= 0.0 => b,
+        Some(_) => {
+            return Err(CheckError::Option(
+                "the box must have finite corners, lower before upper".into(),
+            ))
+        }
+        None => model.finite_bounds()?,
+    };
     let size = bx.size();
     let longest = size.max_element();
     let spacing = match opts.spacing {

@@ -38,7 +38,7 @@ pub enum CheckError {
     #[error("the universe `{0}` is neither a region nor a body")]
     UnknownUniverse(String),
     /// Nothing finite to shoot rays at.
-    #[error("the model has no finite region, so there is no box to fire rays through")]
+    #[error("the model has no finite region, so there is no box to fire rays through; give one (check --box, slice --extent)")]
     Unbounded,
     /// An option out of range.
     #[error("{0}")]
@@ -200,9 +200,6 @@ impl Model {
                 box_ = box_.union(&h.bounds());
             }
         }
-        if box_.is_empty() || !box_.is_finite() {
-            return Err(CheckError::Unbounded);
-        }
         Ok((
             Model {
                 prepared,
@@ -232,9 +229,18 @@ impl Model {
     }
 
     /// The box that checks and samples cover: the bounds of every finite
-    /// zone and of the universe's hull.
+    /// zone and of the universe's hull. Empty when every zone is unbounded.
     pub fn bounds(&self) -> Aabb {
         self.box_
+    }
+
+    /// [`Model::bounds`], or [`CheckError::Unbounded`] when it is empty.
+    pub fn finite_bounds(&self) -> Result<Aabb, CheckError> {
+        if self.box_.is_empty() || !self.box_.is_finite() {
+            Err(CheckError::Unbounded)
+        } else {
+            Ok(self.box_)
+        }
     }
 
     /// Bounds of region `r` from its `+` bodies, clipped to [`Model::bounds`]

@@ -157,8 +157,13 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         }
         None => default_tolerance(&model.prepared),
     };
-    // The box's corners in plane coordinates.
-    let b = model.bounds();
+    // The box's corners in plane coordinates (the plane's origin when
+    // there is no finite box and the extent is given).
+    let b = match (model.finite_bounds(), opts.extent) {
+        (Ok(b), _) => b,
+        (Err(_), Some(_)) => sv_math::Aabb::new(pl.origin, pl.origin),
+        (Err(e), None) => return Err(e),
+    };
     let (mut umin, mut umax, mut vmin, mut vmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for i in 0..8 {
         let c = DVec3::new(

@@ -267,7 +267,7 @@ pub fn volumes(model: &Model, opts: &VolumeOptions) -> Result<VolumeReport, Chec
     }
     let start = Instant::now();
     let nr = model.names.len();
-    let bx = model.bounds();
+    let bx = model.finite_bounds()?;
     let box_vol = bx.size().x * bx.size().y * bx.size().z;
     let mut stats = vec![Stats::default(); nr];
     let mut rays: u64 = 0;

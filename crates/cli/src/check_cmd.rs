@@ -43,13 +43,22 @@ pub struct CheckArgs {
     /// Extra rays in random directions.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub random: u64,
+    /// Fire the rays through this box instead of the model's bounds (look
+    /// closely at a part; needed when no region is finite).
+    #[arg(
+        long = "box",
+        value_name = "X0,Y0,Z0,X1,Y1,Z1",
+        allow_hyphen_values = true
+    )]
+    pub bounds: Option<String>,
     /// Seed of the random rays.
     #[arg(long, default_value_t = 1971)]
     pub seed: u64,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Count overlaps with air regions (non-zero air code) as problems too.
+    /// Count overlaps with air regions (non-zero air code) as problems too
+    /// (always so for FLUKA inputs).
     #[arg(long)]
     pub strict_air: bool,
     #[command(flatten)]
@@ -134,6 +143,13 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
         .map_err(|e| CliError::Runtime(format!("error: cannot start threads: {e}")))
 }
 
+/// FLUKA has no rule that air gives way (its `VACUUM` regions get air code
+/// 1 from the reader): for FLUKA inputs every overlap counts.
+fn is_fluka(path: &Path) -> bool {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    sv_formats::Format::detect(path, &text) == sv_formats::Format::Fluka
+}
+
 /// Print a report; a closed pipe (`| head`) is not an error.
 fn emit(text: &str) {
     use std::io::Write;
@@ -176,12 +192,40 @@ pub fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
             return Err(input(format!("--spacing must be positive, found {d}")));
         }
     }
+    let bounds = match &a.bounds {
+        None => None,
+        Some(t) => {
+            let bad = || {
+                input(format!(
+                    "--box: expected six numbers X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, found `{t}`"
+                ))
+            };
+            let v: Vec<f64> = t
+                .split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| bad())?;
+            if v.len() != 6
+                || v.iter().any(|x| !x.is_finite())
+                || v[0] >= v[3]
+                || v[1] >= v[4]
+                || v[2] >= v[5]
+            {
+                return Err(bad());
+            }
+            Some(sv_math::Aabb::new(
+                sv_math::DVec3::new(v[0], v[1], v[2]),
+                sv_math::DVec3::new(v[3], v[4], v[5]),
+            ))
+        }
+    };
     let opts = CheckOptions {
+        bounds,
         spacing: a.spacing,
         tolerance: a.check.tolerance,
         random: a.random,
         seed: a.seed,
-        strict_air: a.strict_air,
+        strict_air: a.strict_air || is_fluka(&a.scene),
         ..Default::default()
     };
     let report = pool(a.check.threads)?
@@ -304,7 +348,7 @@ pub fn slice(a: SliceArgs) -> Result<ExitCode, CliError> {
         extent,
         size,
         tolerance: a.check.tolerance,
-        strict_air: a.strict_air,
+        strict_air: a.strict_air || is_fluka(&a.scene),
     };
     let s = pool(a.check.threads)?
         .install(|| sv_check::slice(&m, &opts))

@@ -315,3 +315,62 @@ fn empty_regions_are_listed_as_unseen() {
 
 const CLEAN_PAIR: &str =
     "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION A = +a\nREGION B = +b\n";
+
+#[test]
+fn a_box_looks_closely_at_part_of_a_model() {
+    // Two thin plates overlap by 0.2 inside a world 2000 across: the
+    // default grid (spacing 10) runs past them; a box around them finds it.
+    let text = "
+BODY w RPP -1000 1000 -1000 1000 -1000 1000
+BODY p RPP 0 0.5 0 3 0 3
+BODY q RPP 0.3 0.8 1 4 1 4
+REGION WORLD = +w -p -q
+REGION P = +p
+REGION Q = +q
+";
+    let m = model(text, UniverseChoice::Named("WORLD".into()));
+    let coarse = check(&m, &CheckOptions::default()).unwrap();
+    assert!(coarse.overlaps.is_empty(), "{}", coarse.to_table());
+    let close = check(
+        &m,
+        &CheckOptions {
+            bounds: Some(sv_math::Aabb::new(DVec3::splat(-1.0), DVec3::splat(5.0))),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(close.overlaps.len(), 1, "{}", close.to_table());
+    assert_eq!(
+        close.overlaps[0].regions,
+        ["P".to_string(), "Q".to_string()]
+    );
+    let p = DVec3::from_array(close.overlaps[0].problem.point);
+    assert!(p.x > 0.3 && p.x < 0.5 && p.y > 1.0 && p.y < 3.0, "{p}");
+    assert!(close.voids.is_empty(), "{}", close.to_table());
+}
+
+#[test]
+fn a_model_without_finite_regions_needs_a_box() {
+    let text = "BODY a XCC 0 0 1\nBODY b YCC 0 0 1\nREGION A = +a\nREGION B = +b\n";
+    let m = model(text, UniverseChoice::None);
+    assert!(matches!(
+        check(&m, &CheckOptions::default()),
+        Err(sv_check::CheckError::Unbounded)
+    ));
+    let r = check(
+        &m,
+        &CheckOptions {
+            bounds: Some(sv_math::Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // The two infinite cylinders cross at the origin (a Steinmetz solid of
+    // volume 16/3).
+    assert_eq!(r.overlaps.len(), 1);
+    assert!(
+        (r.overlaps[0].problem.volume - 16.0 / 3.0).abs() < 0.05,
+        "{}",
+        r.overlaps[0].problem.volume
+    );
+}

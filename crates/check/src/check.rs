@@ -1,7 +1,7 @@
 //! `check`: overlaps and voids by grids of rays.
 
 use crate::analyse::{FindingKind, RayCheck};
-use crate::model::{default_tolerance, CheckError, Model};
+use crate::model::{CheckError, Model};
 use crate::rng::uniform;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -22,7 +22,8 @@ pub struct CheckOptions {
     /// (200).
     pub rays_per_side: u32,
     /// Overlaps and voids no longer than this along a ray are ignored;
-    /// default [`default_tolerance`].
+    /// default 1e-5 of the diagonal of the box checked (as
+    /// [`default_tolerance`](crate::default_tolerance) for the model's own box).
     pub tolerance: Option<f64>,
     /// Extra rays in random directions through random points of the box.
     pub random: u64,
@@ -466,7 +467,8 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
                 "the tolerance must be zero or more, found {t}"
             )))
         }
-        None => default_tolerance(&model.prepared),
+        // 1e-5 of the diagonal of the box checked.
+        None => (1e-5 * bx.size().length()).max(1e-12),
     };
     // Count before allocating anything.
     let mut count = 0f64;

@@ -30,12 +30,22 @@ pub struct OverlapPixels {
 
 /// Classify the primary ray of every pixel of a `width`×`height` picture;
 /// `ray(x, y)` gives the ray of pixel (x, y). Overlaps no longer than `tol`
-/// are ignored. Runs on the current rayon pool.
-pub fn overlap_pixels<F>(model: &Model, width: u32, height: u32, tol: f64, ray: F) -> OverlapPixels
+/// are ignored, and so are overlaps with an air region unless `strict_air`
+/// (as [`CheckOptions::strict_air`](crate::CheckOptions::strict_air)).
+/// Runs on the current rayon pool.
+pub fn overlap_pixels<F>(
+    model: &Model,
+    width: u32,
+    height: u32,
+    tol: f64,
+    strict_air: bool,
+    ray: F,
+) -> OverlapPixels
 where
     F: Fn(u32, u32) -> Ray + Sync,
 {
     let (w, h) = (width as usize, height as usize);
+    let air = |r: u32| model.air.get(r as usize).copied().unwrap_or(false);
     type Row = (Vec<bool>, BTreeMap<(u32, u32), (u64, f64)>);
     let rows: Vec<Row> = (0..h)
         .into_par_iter()
@@ -50,7 +60,9 @@ where
                     let mut pairs: Vec<((u32, u32), f64)> = Vec::new();
                     for f in &rc.findings {
                         if let FindingKind::Overlap(a, b) = f.kind {
-                            pairs.push(((a, b), f.t1 - f.t0));
+                            if strict_air || !(air(a) || air(b)) {
+                                pairs.push(((a, b), f.t1 - f.t0));
+                            }
                         }
                     }
                     pairs.sort_by_key(|a| a.0);

@@ -455,15 +455,17 @@ pub fn volume(a: VolumeArgs) -> Result<ExitCode, CliError> {
 /// overlap in magenta and list the pairs on stderr.
 pub fn paint_overlaps(
     scene: &Scene,
+    path: Option<&Path>,
     r: &Renderer,
     frame: &mut Frame,
     pool: &rayon::ThreadPool,
 ) -> Result<(), CliError> {
+    let strict_air = path.is_some_and(is_fluka);
     let (m, _) = Model::new(scene, &UniverseChoice::None).map_err(check_err)?;
     let tol = sv_check::default_tolerance(&m.prepared);
     let gen = r.camera.rays(frame.width, frame.height);
     let ov = pool.install(|| {
-        sv_check::overlap_pixels(&m, frame.width, frame.height, tol, |x, y| {
+        sv_check::overlap_pixels(&m, frame.width, frame.height, tol, strict_air, |x, y| {
             gen.ray(x as f64 + 0.5, y as f64 + 0.5)
         })
     });

@@ -161,7 +161,7 @@ fn render(a: RenderArgs) -> Result<ExitCode, CliError> {
         }
     }
     if a.overlaps {
-        crate::check_cmd::paint_overlaps(&scene, &r, &mut frame, &pool)?;
+        crate::check_cmd::paint_overlaps(&scene, a.scene.as_deref(), &r, &mut frame, &pool)?;
     }
     let opts = WriteOptions {
         sixteen_bit: a.sixteen_bit,

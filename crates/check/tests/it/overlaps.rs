@@ -241,7 +241,7 @@ fn bad_options_are_errors_not_panics() {
 fn pictures_mark_pixels_that_see_an_overlap() {
     let m = model(SPHERES, UniverseChoice::None);
     // Orthographic rays down -z over x in [-1.5, 3], y = 0.
-    let ov = sv_check::overlap_pixels(&m, 90, 1, 1e-6, |x, _| {
+    let ov = sv_check::overlap_pixels(&m, 90, 1, 1e-6, false, |x, _| {
         sv_math::Ray::new(
             DVec3::new(-1.5 + 0.05 * (x as f64 + 0.5), 0.0, 5.0),
             -DVec3::Z,
@@ -373,4 +373,21 @@ fn a_model_without_finite_regions_needs_a_box() {
         "{}",
         r.overlaps[0].problem.volume
     );
+}
+
+#[test]
+fn pictures_skip_air_overlaps_unless_strict() {
+    let mut s = crate::scene(SPHERES);
+    s.regions[0].air = 1;
+    let (m, _) = sv_check::Model::new(&s, &UniverseChoice::None).unwrap();
+    let ray = |x: u32, _| {
+        sv_math::Ray::new(
+            DVec3::new(-1.5 + 0.05 * (x as f64 + 0.5), 0.0, 5.0),
+            -DVec3::Z,
+        )
+    };
+    let lax = sv_check::overlap_pixels(&m, 90, 1, 1e-6, false, ray);
+    assert!(lax.mask.iter().all(|m| !m) && lax.pairs.is_empty());
+    let strict = sv_check::overlap_pixels(&m, 90, 1, 1e-6, true, ray);
+    assert_eq!(strict.mask.iter().filter(|m| **m).count(), 10);
 }

@@ -106,6 +106,11 @@ pub fn load(path: Option<&Path>, a: &InputArgs) -> Result<Scene, CliError> {
             p.transparent = false;
         }
     }
+    if scene.show_air_if_nothing_else() {
+        eprintln!(
+            "note: every region that is not air is transparent, so the air regions are shown"
+        );
+    }
     for name in &a.transparent {
         match scene.geometry.region_index(name) {
             Some(i) => scene.regions[i].transparent = true,

@@ -3,7 +3,8 @@
 
 use proptest::prelude::*;
 use sv_director::*;
-use sv_formats::script::{build_timeline, merge_scenes};
+use sv_formats::native::{merge, Clash, MergeError};
+use sv_formats::script::build_timeline;
 use sv_formats::SourceFile;
 use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
 use sv_math::DVec3;
@@ -440,7 +441,7 @@ fn scenes_merge_with_shifted_body_references() {
     let mut b = Scene::default();
     b.geometry.bodies = vec![Body::new("gun", BodyKind::Sph, vec![5.0, 5.0, 0.5, 0.5])];
     b.push_region(region("gun_base", &[0]), RegionProps::default());
-    merge_scenes(&mut m, b.clone()).expect("merge");
+    merge(&mut m, b.clone(), "b", Clash::Refuse).expect("merge");
     assert_eq!(m.geometry.bodies.len(), 5);
     let r = m.geometry.region_index("gun_base").expect("region");
     assert_eq!(m.geometry.regions[r].zones[0].terms[0].body, 4);
@@ -448,7 +449,10 @@ fn scenes_merge_with_shifted_body_references() {
     assert!(m.camera.is_some());
     b.geometry.regions[0].name = "hub".into();
     let mut a = scene();
-    assert_eq!(merge_scenes(&mut a, b), Err("hub".to_string()));
+    assert_eq!(
+        merge(&mut a, b, "b", Clash::Refuse),
+        Err(MergeError::Region("hub".to_string()))
+    );
     assert_eq!(a, scene());
 }
 

@@ -26,6 +26,7 @@
 
 use crate::diag::{did_you_mean, Diagnostic, Diagnostics, SourceFile};
 use crate::{LoadError, LoadOptions, Loaded};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use sv_geom::{Body, BodyKind, Op, Region, Term, Zone, BODY_TYPES};
 use sv_math::DVec3;
@@ -219,6 +220,28 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
     Ok(Loaded { scene, warnings })
 }
 
+/// Name → index maps of the scene being read, kept in step with it, so a
+/// look-up costs O(1): a linear search per reference made reading a
+/// 100,000-body scene quadratic.
+#[derive(Default)]
+struct Names {
+    bodies: HashMap<String, usize>,
+    regions: HashMap<String, usize>,
+}
+
+impl Names {
+    /// Take in bodies and regions added since the last call.
+    fn sync(&mut self, scene: &Scene) {
+        let g = &scene.geometry;
+        for (i, b) in g.bodies.iter().enumerate().skip(self.bodies.len()) {
+            self.bodies.entry(b.name.clone()).or_insert(i);
+        }
+        for (i, r) in g.regions.iter().enumerate().skip(self.regions.len()) {
+            self.regions.entry(r.name.clone()).or_insert(i);
+        }
+    }
+}
+
 fn read_into(
     src: &SourceFile,
     opts: &LoadOptions,
@@ -227,11 +250,13 @@ fn read_into(
     warnings: &mut Vec<Diagnostic>,
     stack: &mut Vec<PathBuf>,
 ) {
+    let mut names = Names::default();
     for (i, text) in src.text.lines().enumerate() {
         let toks = tokenize(text);
         if toks.is_empty() {
             continue;
         }
+        names.sync(scene);
         let mut cx = Ctx {
             src,
             line: i + 1,
@@ -268,8 +293,8 @@ fn read_into(
                         .err(t, format!("unknown unit `{}`", t.text))
                         .with_hint("use one of in, ft, mm, cm, m")),
                 }),
-            "BODY" => body(&mut ln, &mut cx, scene),
-            "REGION" => region(&mut ln, &mut cx, scene),
+            "BODY" => body(&mut ln, &mut cx, scene, &names),
+            "REGION" => region(&mut ln, &mut cx, scene, &names),
             "INCLUDE" => match ln.word(&mut cx, "a file name in quotes") {
                 Ok(t) => {
                     include(t, &mut cx, opts, scene, warnings, stack);
@@ -353,7 +378,7 @@ fn read_into(
     }
 }
 
-fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic> {
+fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
     let name = ln.word(cx, "a body name or number")?;
     let ty = ln.word(cx, "a body type (SPH, RCC, …)")?;
     let Some(kind) = BodyKind::from_name(&ty.text) else {
@@ -402,7 +427,7 @@ fn body(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic
                 format!("{kind}: {}", layout.join(" "))
             }));
     }
-    if scene.geometry.body_index(&name.text).is_some() {
+    if names.bodies.contains_key(&name.text) {
         return Err(cx.err(name, format!("body `{}` is defined twice", name.text)));
     }
     scene
@@ -422,9 +447,9 @@ fn colour(ln: &mut Line, cx: &mut Ctx) -> Result<[f64; 3], Diagnostic> {
 
 const REGION_PROPS: &[&str] = &["COLOR", "COLOUR", "K", "TRANSPARENT", "OPAQUE", "DENSITY"];
 
-fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnostic> {
+fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
     let name = ln.word(cx, "a region name or number")?;
-    let existing = scene.geometry.region_index(&name.text);
+    let existing = names.regions.get(&name.text).copied();
     let mut props = existing
         .map(|i| scene.regions[i].clone())
         .unwrap_or_default();
@@ -465,7 +490,7 @@ fn region(ln: &mut Line, cx: &mut Ctx, scene: &mut Scene) -> Result<(), Diagnost
                     continue;
                 }
             };
-            match scene.geometry.body_index(body) {
+            match names.bodies.get(body).copied() {
                 Some(b) => zones.last_mut().unwrap().terms.push(Term { op, body: b }),
                 None => {
                     let mut d = cx.err(
@@ -765,8 +790,14 @@ fn include(
     match loaded {
         Ok(loaded) => {
             warnings.extend(loaded.warnings);
-            if let Err(msg) = merge(scene, loaded.scene) {
-                let d = cx.err(t, msg);
+            let tag = Path::new(&t.text)
+                .file_stem()
+                .map_or(t.text.clone(), |s| s.to_string_lossy().into_owned());
+            if let Err(MergeError::Region(r)) = merge(scene, loaded.scene, &tag, Clash::Rename) {
+                let d = cx.err(
+                    t,
+                    format!("region `{r}` is defined both here and in the included file"),
+                );
                 cx.report(d);
             }
         }
@@ -785,9 +816,43 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Add another scene's geometry, regions and notes to `scene`, scaled from
-/// its units into the scene's. Body and region names must not clash.
-pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
+/// Why a scene cannot be merged into another.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MergeError {
+    /// A region of this name is in both scenes.
+    Region(String),
+}
+
+/// What [`merge`] does with a region whose name is taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clash {
+    /// Refuse the merge (names matter to the caller, as in a film script).
+    Refuse,
+    /// Rename the incoming region `tag/name`.
+    Rename,
+}
+
+/// Add `other` to `scene`: its bodies (a body whose name is taken becomes
+/// `tag/name`; regions as `regions` says), its regions (body references shifted), its lights whose
+/// names are new, and its notes; camera, picture size and title are taken
+/// only where `scene` has none. `other` is scaled from its units into the
+/// scene's; a scene still without units takes them from the first model
+/// merged into it. A region name in both scenes is an error, and `scene` is
+/// then left unchanged.
+pub fn merge(
+    scene: &mut Scene,
+    mut other: Scene,
+    tag: &str,
+    regions: Clash,
+) -> Result<(), MergeError> {
+    for r in &mut other.geometry.regions {
+        if scene.geometry.region_index(&r.name).is_some() {
+            match regions {
+                Clash::Refuse => return Err(MergeError::Region(r.name.clone())),
+                Clash::Rename => r.name = format!("{tag}/{}", r.name),
+            }
+        }
+    }
     let offset = scene.geometry.bodies.len();
     let unset = scene.notes.iter().any(|n| n == UNITS_UNSET);
     if unset && offset == 0 {
@@ -797,26 +862,18 @@ pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
         let f = other.units.mm() / scene.units.mm();
         let xf = sv_math::DAffine3::from_scale(DVec3::splat(f));
         for b in &mut other.geometry.bodies {
-            *b = b.transformed(&xf).map_err(|e| e.to_string())?;
+            // A uniform positive scale is a similarity: it cannot fail.
+            if let Ok(scaled) = b.transformed(&xf) {
+                *b = scaled;
+            }
         }
     }
-    for b in &other.geometry.bodies {
+    for mut b in other.geometry.bodies {
         if scene.geometry.body_index(&b.name).is_some() {
-            return Err(format!(
-                "body `{}` is defined both here and in the included file",
-                b.name
-            ));
+            b.name = format!("{tag}/{}", b.name);
         }
+        scene.geometry.bodies.push(b);
     }
-    for r in &other.geometry.regions {
-        if scene.geometry.region_index(&r.name).is_some() {
-            return Err(format!(
-                "region `{}` is defined both here and in the included file",
-                r.name
-            ));
-        }
-    }
-    scene.geometry.bodies.extend(other.geometry.bodies);
     for (mut r, p) in other.geometry.regions.into_iter().zip(other.regions) {
         for z in &mut r.zones {
             for t in &mut z.terms {
@@ -829,16 +886,17 @@ pub fn merge(scene: &mut Scene, mut other: Scene) -> Result<(), String> {
         scene.title = other.title;
     }
     scene.notes.extend(other.notes);
-    // A wrapper scene that only includes a model keeps the model's view.
-    if scene.camera.is_none() {
-        scene.camera = other.camera;
+    for l in other.lights {
+        if !scene
+            .lights
+            .iter()
+            .any(|m| m.name.eq_ignore_ascii_case(&l.name))
+        {
+            scene.lights.push(l);
+        }
     }
-    if scene.lights.is_empty() {
-        scene.lights = other.lights;
-    }
-    if scene.size.is_none() {
-        scene.size = other.size;
-    }
+    scene.camera = scene.camera.or(other.camera);
+    scene.size = scene.size.or(other.size);
     Ok(())
 }
 
@@ -875,19 +933,7 @@ pub fn write(scene: &Scene) -> String {
         let zones: Vec<String> = r
             .zones
             .iter()
-            .map(|z| {
-                z.terms
-                    .iter()
-                    .map(|t| {
-                        format!(
-                            "{}{}",
-                            if t.op == Op::Inside { '+' } else { '-' },
-                            names[t.body]
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            })
+            .map(|z| z.expression(|b| &names[b]))
             .collect();
         s.push_str(&format!(
             "REGION {} = {}",

@@ -1049,7 +1049,10 @@ fn materials_and_black_holes() {
         ]
     );
     assert_eq!(l.scene.regions[1].air, 1);
-    assert!(!l.scene.regions[1].transparent);
+    assert!(
+        l.scene.regions[1].transparent,
+        "vacuum is air: hidden unless --show-air"
+    );
     assert_eq!(
         l.scene.title,
         "Charged pion fluence inside and around a proton-irradiated Be target"

@@ -147,3 +147,41 @@ fn a_deck_included_in_other_units_is_scaled_into_the_scene() {
         s.geometry.bodies[0]
     );
 }
+
+#[test]
+fn two_decks_in_different_units_share_one_scene() {
+    let decks =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks/comgeom");
+    if !decks.is_dir() {
+        eprintln!("skipped: {} is not present", decks.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let main = dir.path().join("both.sv");
+    std::fs::write(
+        &main,
+        format!(
+            "UNITS in\nINCLUDE \"{}\"\nINCLUDE \"{}\"\n",
+            decks.join("gift-sample-target-v4.cg").display(),
+            decks.join("vdeck-all-types.cg").display()
+        ),
+    )
+    .unwrap();
+    let s = sv_formats::load_file(&main, &LoadOptions::default())
+        .unwrap()
+        .scene;
+    assert_eq!(s.geometry.bodies.len(), 39);
+    // Body 15 of the mm deck (a sphere of radius 42 mm) keeps its place
+    // under a tagged name and is scaled to inches.
+    let i = s
+        .geometry
+        .body_index("vdeck-all-types/15")
+        .expect("renamed body");
+    let sph = &s.geometry.bodies[i];
+    assert!((sph.params[3] - 42.0 / 25.4).abs() < 1e-12, "{sph:?}");
+    assert_eq!(s.geometry.regions.len(), 20 + 19, "regions of both decks");
+    assert!(
+        s.geometry.region_index("vdeck-all-types/1").is_some(),
+        "clashing region names are tagged"
+    );
+}

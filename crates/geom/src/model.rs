@@ -41,6 +41,24 @@ pub struct Zone {
     pub terms: Vec<Term>,
 }
 
+impl Zone {
+    /// The zone as written: `+a -b`, naming bodies with `name`.
+    pub fn expression<'a>(&self, name: impl Fn(usize) -> &'a str) -> String {
+        let terms: Vec<String> = self
+            .terms
+            .iter()
+            .map(|t| {
+                format!(
+                    "{}{}",
+                    if t.op == Op::Inside { '+' } else { '-' },
+                    name(t.body)
+                )
+            })
+            .collect();
+        terms.join(" ")
+    }
+}
+
 /// A region: the union of its zones (GIFT `OR`, FLUKA `|`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Region {

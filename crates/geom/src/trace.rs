@@ -234,14 +234,35 @@ impl Prepared {
         best
     }
 
-    /// Order `zones` for [`Prepared::first_hit_in`] for rays starting at
-    /// `eye`: each zone with the distance from `eye` to its bounds.
-    pub fn by_distance(&self, zones: &[u32], eye: DVec3, out: &mut Vec<(f64, u32)>) {
+    /// Order `zones` for [`Prepared::first_hit_in`]: each zone with a lower
+    /// bound of the distance at which rays leaving `eye` (perspective), or
+    /// rays along `dir` leaving the plane through `eye` normal to `dir`
+    /// (orthographic, `dir` unit), can enter its bounds.
+    pub fn by_distance(
+        &self,
+        zones: &[u32],
+        eye: DVec3,
+        parallel: Option<DVec3>,
+        out: &mut Vec<(f64, u32)>,
+    ) {
         out.clear();
+        let base = parallel.map_or(0.0, |d| eye.dot(d));
         out.extend(zones.iter().map(|&zi| {
             let b = &self.zones[zi as usize].bounds;
-            let d = (b.min - eye).max(eye - b.max).max(DVec3::ZERO);
-            (d.length(), zi)
+            let near = match parallel {
+                None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
+                Some(d) => {
+                    // The box corner furthest against `d`.
+                    let p = DVec3::new(
+                        if d.x > 0.0 { b.min.x } else { b.max.x },
+                        if d.y > 0.0 { b.min.y } else { b.max.y },
+                        if d.z > 0.0 { b.min.z } else { b.max.z },
+                    );
+                    p.dot(d) - base
+                }
+            };
+            // Rounding slack keeps the bound a bound.
+            (near - 1e-9 * (near.abs() + base.abs()), zi)
         }));
         out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     }
@@ -286,17 +307,17 @@ impl Prepared {
     }
 
     /// The opaque zones whose bounds meet the frustum, in hierarchy order
-    /// (unbounded zones first).
-    pub fn frustum_zones(&self, f: &Frustum, out: &mut Vec<u32>) {
+    /// (unbounded zones first). Gives up and returns false as soon as there
+    /// are more than `max`: the rays had better walk the hierarchy then.
+    pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
         out.clear();
         out.extend_from_slice(&self.unbounded_opaque);
         let nodes = &self.bvh_opaque.nodes;
-        if nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![0usize];
-        while let Some(n) = stack.pop() {
-            let node = nodes[n];
+        let mut stack = [0u32; 64];
+        let mut sp = usize::from(!nodes.is_empty());
+        while sp > 0 {
+            sp -= 1;
+            let node = nodes[stack[sp] as usize];
             if !f.may_meet(&node.bounds) {
                 continue;
             }
@@ -308,11 +329,19 @@ impl Prepared {
                         .iter()
                         .filter(|&&zi| f.may_meet(&self.zones[zi as usize].bounds)),
                 );
+            } else if sp + 2 <= stack.len() {
+                stack[sp] = node.first + 1;
+                stack[sp + 1] = node.first;
+                sp += 2;
             } else {
-                stack.push(node.first as usize + 1);
-                stack.push(node.first as usize);
+                // Deeper than the stack: let the rays walk the hierarchy.
+                return false;
+            }
+            if out.len() > max {
+                return false;
             }
         }
+        out.len() <= max
     }
 
     /// True when an opaque region lies on the ray within `(tmin, tmax)`

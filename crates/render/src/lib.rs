@@ -19,7 +19,12 @@ pub use view::{default_camera, default_lights, frame_bounds};
 
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 use sv_geom::{Frustum, Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
+
+/// A worker's memory: ray scratch, a tile's candidate zones, and the same
+/// sorted by distance.
+type Workspace = (Scratch, Vec<u32>, Vec<(f64, u32)>);
 
 /// Tiles are TILE×TILE pixels.
 const TILE: usize = 16;
@@ -164,81 +169,87 @@ impl Renderer {
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
         let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
+        // One working memory per worker thread, made once: a `Scratch` is
+        // sized by the body count, too big to make for every piece of work.
+        let pool: Vec<Mutex<Workspace>> = (0..rayon::current_num_threads())
+            .map(|_| Mutex::new((Scratch::new(&self.prepared), Vec::new(), Vec::new())))
+            .collect();
+        let mine = || {
+            let i = rayon::current_thread_index().unwrap_or(0) % pool.len();
+            pool[i].lock().unwrap_or_else(|e| e.into_inner())
+        };
         frame
             .rgb
             .par_chunks_mut(w * TILE)
             .zip(frame.alpha.par_chunks_mut(w * TILE))
             .enumerate()
-            .for_each_init(
-                || (Scratch::new(&self.prepared), Vec::new(), Vec::new()),
-                |(s, cands, sorted), (band, (rgb, alpha))| {
-                    let y0 = band * TILE;
-                    let rows = rgb.len() / w;
-                    for x0 in (0..w).step_by(TILE) {
-                        let x1 = (x0 + TILE).min(w);
-                        // Zones that any ray of this tile may meet; the
-                        // answer for each ray is the same as a full search.
-                        let corners = [(x0, y0), (x1, y0), (x1, y0 + rows), (x0, y0 + rows)]
-                            .map(|(x, y)| gen.ray(x as f64, y as f64));
-                        self.prepared
-                            .frustum_zones(&Frustum::from_corners(corners), cands);
-                        let few = cands.len() <= MAX_TILE_ZONES;
-                        // Perspective rays all start at the eye, so the
-                        // distance from the eye to a zone's box bounds
-                        // where they can enter it. Orthographic rays start
-                        // on the image plane: no useful bound, keep order.
-                        if ortho {
-                            sorted.clear();
-                            sorted.extend(cands.iter().map(|&z| (f64::NEG_INFINITY, z)));
-                        } else {
-                            self.prepared.by_distance(cands, self.camera.eye, sorted);
-                        }
-                        for yy in 0..rows {
-                            for x in x0..x1 {
-                                let i = yy * w + x;
-                                let (fx, fy) = (x as f64, (y0 + yy) as f64);
-                                let mut acc = [0.0f64; 3];
-                                let mut cover = 0.0;
-                                for sy in 0..n {
-                                    for sx in 0..n {
-                                        let ray = gen.ray(
-                                            fx + (sx as f64 + 0.5) / n as f64,
-                                            fy + (sy as f64 + 0.5) / n as f64,
-                                        );
-                                        let hit = if cands.is_empty() {
-                                            None
-                                        } else if few {
-                                            self.prepared.first_hit_in(
-                                                sorted,
-                                                &ray,
-                                                0.0,
-                                                f64::INFINITY,
-                                                s,
-                                            )
-                                        } else {
-                                            self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
-                                        };
-                                        let c = match hit {
-                                            Some(hit) => {
-                                                cover += 1.0;
-                                                self.shade(&ray, &hit, st.shadows, s)
-                                            }
-                                            None => self.background,
-                                        };
-                                        for (a, v) in acc.iter_mut().zip(c) {
-                                            *a += v;
+            .for_each(|(band, (rgb, alpha))| {
+                let mut guard = mine();
+                let (s, cands, sorted) = &mut *guard;
+                let y0 = band * TILE;
+                let rows = rgb.len() / w;
+                for x0 in (0..w).step_by(TILE) {
+                    let x1 = (x0 + TILE).min(w);
+                    // Zones that any ray of this tile may meet; the
+                    // answer for each ray is the same as a full search.
+                    let corners = [(x0, y0), (x1, y0), (x1, y0 + rows), (x0, y0 + rows)]
+                        .map(|(x, y)| gen.ray(x as f64, y as f64));
+                    let few = self.prepared.frustum_zones(
+                        &Frustum::from_corners(corners),
+                        MAX_TILE_ZONES,
+                        cands,
+                    );
+                    // A lower bound of where the tile's rays can enter
+                    // each zone lets a ray stop at the first zone that
+                    // cannot come nearer than its best hit.
+                    let parallel = ortho.then(|| self.camera.dir.normalize());
+                    self.prepared
+                        .by_distance(cands, self.camera.eye, parallel, sorted);
+                    for yy in 0..rows {
+                        for x in x0..x1 {
+                            let i = yy * w + x;
+                            let (fx, fy) = (x as f64, (y0 + yy) as f64);
+                            let mut acc = [0.0f64; 3];
+                            let mut cover = 0.0;
+                            for sy in 0..n {
+                                for sx in 0..n {
+                                    let ray = gen.ray(
+                                        fx + (sx as f64 + 0.5) / n as f64,
+                                        fy + (sy as f64 + 0.5) / n as f64,
+                                    );
+                                    let hit = if few && cands.is_empty() {
+                                        None
+                                    } else if few {
+                                        self.prepared.first_hit_in(
+                                            sorted,
+                                            &ray,
+                                            0.0,
+                                            f64::INFINITY,
+                                            s,
+                                        )
+                                    } else {
+                                        self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
+                                    };
+                                    let c = match hit {
+                                        Some(hit) => {
+                                            cover += 1.0;
+                                            self.shade(&ray, &hit, st.shadows, s)
                                         }
+                                        None => self.background,
+                                    };
+                                    for (a, v) in acc.iter_mut().zip(c) {
+                                        *a += v;
                                     }
                                 }
-                                let inv = 1.0 / (n * n) as f64;
-                                rgb[i] = acc.map(|v| (v * inv) as f32);
-                                alpha[i] = (cover * inv) as f32;
                             }
+                            let inv = 1.0 / (n * n) as f64;
+                            rgb[i] = acc.map(|v| (v * inv) as f32);
+                            alpha[i] = (cover * inv) as f32;
                         }
                     }
-                    progress(done.fetch_add(rows, Ordering::Relaxed) + rows);
-                },
-            );
+                }
+                progress(done.fetch_add(rows, Ordering::Relaxed) + rows);
+            });
         if st.aovs {
             // The auxiliary images describe the pixel centres.
             frame
@@ -247,20 +258,18 @@ impl Renderer {
                 .zip(frame.depth.par_chunks_mut(w))
                 .zip(frame.normal.par_chunks_mut(w))
                 .enumerate()
-                .for_each_init(
-                    || Scratch::new(&self.prepared),
-                    |s, (y, ((region, depth), normal))| {
-                        for x in 0..w {
-                            let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
-                            if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s)
-                            {
-                                region[x] = hit.region + 1;
-                                depth[x] = hit.t as f32;
-                                normal[x] = self.prepared.normal(&hit, &ray).as_vec3().to_array();
-                            }
+                .for_each(|(y, ((region, depth), normal))| {
+                    let mut guard = mine();
+                    let s = &mut guard.0;
+                    for x in 0..w {
+                        let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
+                        if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
+                            region[x] = hit.region + 1;
+                            depth[x] = hit.t as f32;
+                            normal[x] = self.prepared.normal(&hit, &ray).as_vec3().to_array();
                         }
-                    },
-                );
+                    }
+                });
         }
         debug_assert_eq!(frame.rgb.len(), w * h);
         frame

@@ -152,6 +152,19 @@ impl Default for Scene {
 }
 
 impl Scene {
+    /// When every region is transparent but some are air (which readers hide
+    /// by default), show the air regions instead of an empty picture.
+    /// Returns true when it did so.
+    pub fn show_air_if_nothing_else(&mut self) -> bool {
+        if self.regions.iter().any(|r| !r.transparent) || !self.regions.iter().any(|r| r.air != 0) {
+            return false;
+        }
+        for r in self.regions.iter_mut().filter(|r| r.air != 0) {
+            r.transparent = false;
+        }
+        true
+    }
+
     /// Add a region with its properties, keeping both lists aligned.
     pub fn push_region(&mut self, region: sv_geom::Region, props: RegionProps) -> usize {
         self.geometry.regions.push(region);

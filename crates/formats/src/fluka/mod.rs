@@ -9,7 +9,8 @@
 //!   used by `$start_transform` (convention below);
 //! * `ASSIGNMA` cards name each region's material: it is recorded in
 //!   [`RegionProps::description`] as `material: NAME`, and `BLCKHOLE` regions
-//!   are made transparent (`VACUUM` regions get air code 1);
+//!   are made transparent, and so are `VACUUM` regions (air code 1, shown
+//!   by `render --show-air`);
 //! * `FREE`, `FIXED` and `GLOBAL` switch between fixed-column and free cards.
 //!
 //! The preprocessor (`#define`, `#undef`, `#if`/`#ifdef`/`#ifndef`, `#elif`,
@@ -1338,7 +1339,9 @@ impl Reader {
             self.assign_budget -= 1;
             let p = &mut props[r];
             p.description = format!("material: {material}");
-            p.transparent = material == "BLCKHOLE";
+            // Vacuum is air: left out of pictures unless `--show-air`, as
+            // air-coded regions of COMGEOM decks are.
+            p.transparent = material == "BLCKHOLE" || material == "VACUUM";
             p.material = match material.as_str() {
                 "BLCKHOLE" => 1,
                 "VACUUM" => 2,

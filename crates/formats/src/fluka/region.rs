@@ -384,19 +384,7 @@ mod tests {
             .zones(&u)
             .map_err(|_| "too big".to_string())?
             .iter()
-            .map(|z| {
-                z.terms
-                    .iter()
-                    .map(|t| {
-                        format!(
-                            "{}{}",
-                            if t.op == Op::Inside { '+' } else { '-' },
-                            names[t.body]
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            })
+            .map(|z| z.expression(|b| names[b]))
             .collect())
     }
 

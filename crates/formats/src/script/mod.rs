@@ -177,7 +177,12 @@ pub fn load_source(src: &SourceFile, dir: &Path, opts: &LoadOptions) -> Result<F
                         scene = Some(loaded.scene);
                     }
                     Some(s) => {
-                        if let Err(region) = merge_scenes(s, loaded.scene) {
+                        if let Err(crate::native::MergeError::Region(region)) = crate::native::merge(
+                            s,
+                            loaded.scene,
+                            &scene_tag(name),
+                            crate::native::Clash::Refuse,
+                        ) {
                             diags.push(at(src, *span, format!("region `{region}` of `{name}` has the same name as a region of `{first_name}`")));
                             scene_ok = false;
                         }
@@ -250,34 +255,11 @@ pub fn build_timeline(src: &SourceFile, scene: &Scene) -> Result<Timeline, Diagn
     Err(diags)
 }
 
-/// Add the scene `b` to `a`: bodies, regions and lights appended (body
-/// references shifted), camera and picture settings of `a` kept unless `a`
-/// has none. When a region name is in both, `a` is left unchanged and the
-/// name is returned.
-pub fn merge_scenes(a: &mut Scene, b: Scene) -> Result<(), String> {
-    if let Some(r) = b
-        .geometry
-        .regions
-        .iter()
-        .find(|r| a.geometry.region_index(&r.name).is_some())
-    {
-        return Err(r.name.clone());
-    }
-    let shift = a.geometry.bodies.len();
-    a.geometry.bodies.extend(b.geometry.bodies);
-    for (mut r, p) in b.geometry.regions.into_iter().zip(b.regions) {
-        for z in &mut r.zones {
-            for t in &mut z.terms {
-                t.body += shift;
-            }
-        }
-        a.push_region(r, p);
-    }
-    a.lights.extend(b.lights);
-    a.camera = a.camera.or(b.camera);
-    a.size = a.size.or(b.size);
-    a.notes.extend(b.notes);
-    Ok(())
+/// The tag that tells apart bodies of the same name from two scenes.
+fn scene_tag(name: &str) -> String {
+    Path::new(name)
+        .file_stem()
+        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned())
 }
 
 fn at(src: &SourceFile, s: Span, msg: impl Into<String>) -> Diagnostic {

@@ -206,6 +206,12 @@ impl Report {
                 first, "total len", "max len", "volume", "hits"
             );
         };
+        // Coordinates within rounding of zero print as 0.
+        let diag = (0..3)
+            .map(|k| (self.bounds[1][k] - self.bounds[0][k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let coord = |v: f64| fmt_g(if v.abs() < 1e-12 * diag { 0.0 } else { v });
         let row = |s: &mut String, name: String, p: &Problem| {
             let _ = writeln!(
                 s,
@@ -215,9 +221,9 @@ impl Report {
                 fmt_g(p.max_length),
                 fmt_g(p.volume),
                 p.hits,
-                fmt_g(p.point[0]),
-                fmt_g(p.point[1]),
-                fmt_g(p.point[2])
+                coord(p.point[0]),
+                coord(p.point[1]),
+                coord(p.point[2])
             );
         };
         if self.overlaps.is_empty() {

@@ -1,6 +1,7 @@
 //! Integration tests of sv-check: planted overlaps and voids, volumes
 //! against closed forms, section views and report shapes.
 
+mod decks;
 mod overlaps;
 mod slices;
 mod voids;

@@ -391,3 +391,32 @@ fn pictures_skip_air_overlaps_unless_strict() {
     let strict = sv_check::overlap_pixels(&m, 90, 1, 1e-6, true, ray);
     assert_eq!(strict.mask.iter().filter(|m| **m).count(), 10);
 }
+
+#[test]
+fn reports_do_not_depend_on_the_number_of_threads() {
+    let text = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.5,0,0) 1
+BODY c RCC (0,0,-2) (0,0,4) 0.3
+REGION A = +a
+REGION B = +b
+REGION C = +c
+";
+    let m = model(text, UniverseChoice::None);
+    let opts = CheckOptions {
+        random: 3000,
+        ..Default::default()
+    };
+    let run = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        let mut r = pool.install(|| check(&m, &opts)).unwrap();
+        r.seconds = 0.0;
+        r
+    };
+    let one = run(1);
+    assert_eq!(one.overlaps.len(), 2);
+    assert_eq!(one, run(3));
+}

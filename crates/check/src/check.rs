@@ -29,8 +29,8 @@ pub struct CheckOptions {
     pub random: u64,
     /// Seed of the random rays.
     pub seed: u64,
-    /// Refuse to fire more grid rays than this (guards against a tiny
-    /// `--spacing`).
+    /// Refuse to fire more grid rays, or more random rays, than this
+    /// (guards against a tiny `--spacing` or a huge `--random`).
     pub max_rays: u64,
     /// Fire the rays through this box instead of [`Model::bounds`] (to look
     /// closely at part of a model, or at a model without finite regions).
@@ -481,6 +481,12 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     for k in 0..3 {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         count += cells(size[u], spacing).max(1.0) * cells(size[v], spacing).max(1.0);
+    }
+    if opts.random > opts.max_rays {
+        return Err(CheckError::Option(format!(
+            "{} random rays are more than the limit of {}",
+            opts.random, opts.max_rays
+        )));
     }
     if count > opts.max_rays as f64 {
         return Err(CheckError::Option(format!(

@@ -193,10 +193,14 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         }
     };
     let (w, h) = match opts.size {
-        Some((w, h)) if w > 0 && h > 0 && w <= 16384 && h <= 16384 => (w, h),
+        Some((w, h))
+            if w > 0 && h > 0 && w <= 16384 && h <= 16384 && (w as u64) * (h as u64) <= 1 << 26 =>
+        {
+            (w, h)
+        }
         Some((w, h)) => {
             return Err(CheckError::Option(format!(
-                "the size {w}x{h} is out of range (1 to 16384 each way)"
+                "the size {w}x{h} is out of range (1 to 16384 each way, at most 67 million pixels)"
             )))
         }
         None => {

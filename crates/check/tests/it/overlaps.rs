@@ -232,6 +232,10 @@ fn bad_options_are_errors_not_panics() {
             tolerance: Some(-1.0),
             ..Default::default()
         },
+        CheckOptions {
+            random: u64::MAX,
+            ..Default::default()
+        },
     ] {
         assert!(check(&m, &o).is_err());
     }

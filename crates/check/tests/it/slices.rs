@@ -172,3 +172,11 @@ fn air_gives_way_to_solids_in_sections_unless_strict() {
     assert_eq!(class_at(&s, 0.0, 0.0), Slice::OVERLAP);
     assert_eq!(s.overlaps.len(), 1);
 }
+
+#[test]
+fn huge_pictures_are_refused() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let mut o = opts(Plane::axis(2, 0.0));
+    o.size = Some((16384, 16384));
+    assert!(slice(&m, &o).is_err());
+}

@@ -1,1 +1,55 @@
-//! placeholder
+//! Geometry checking: overlaps, voids, section views and volumes.
+//!
+//! Everything here is built on one primitive of the engine,
+//! [`Prepared::partitions`](sv_geom::Prepared::partitions): the stretches of
+//! a ray inside every region. Two stretches of different regions that share
+//! a piece of the ray are an *overlap*; a piece of the ray inside the
+//! declared universe that no region claims is a *void*.
+//!
+//! * [`check`]: grids of rays along x, y and z through the model's bounds
+//!   (and optional random directions), in parallel, gathered into a
+//!   [`Report`] of overlapping pairs and voids.
+//! * [`slice()`]: a section view through any plane, coloured by region, with
+//!   overlaps, voids and region outlines drawn.
+//! * [`volumes`]: volume, statistical error, centroid and mass of every
+//!   region by ray sampling, refined until a relative error is reached.
+//! * [`overlap_pixels`]: which pixels of a picture see an overlap.
+//!
+//! ```
+//! use sv_check::{check, CheckOptions, Model, UniverseChoice};
+//! use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+//! use sv_scene::{RegionProps, Scene};
+//! let mut s = Scene::default();
+//! s.geometry.bodies.push(Body::new("a", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]));
+//! s.geometry.bodies.push(Body::new("b", BodyKind::Sph, vec![1.5, 0.0, 0.0, 1.0]));
+//! for (name, body) in [("A", 0), ("B", 1)] {
+//!     let zone = Zone { terms: vec![Term { op: Op::Inside, body }] };
+//!     s.push_region(Region { name: name.into(), zones: vec![zone] }, RegionProps::default());
+//! }
+//! let (model, _) = Model::new(&s, &UniverseChoice::None).unwrap();
+//! let report = check(&model, &CheckOptions::default()).unwrap();
+//! assert_eq!(report.overlaps.len(), 1);
+//! assert_eq!(report.overlaps[0].regions, ["A", "B"]);
+//! assert!(!report.is_clean());
+//! ```
+#![warn(missing_docs)]
+
+mod analyse;
+mod check;
+mod colour;
+mod legend;
+mod model;
+mod overlay;
+mod rng;
+mod slice;
+mod volume;
+
+pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
+pub use check::{check, CheckOptions, Problem, Report, UniverseInfo, Void};
+pub use check::{Outside, Overlap};
+pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
+pub use legend::with_legend;
+pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
+pub use overlay::{overlap_pixels, OverlapPixels, PairSeen};
+pub use slice::{slice, LegendEntry, Plane, Slice, SliceOptions};
+pub use volume::{volumes, RegionVolume, VolumeOptions, VolumeReport};

@@ -27,6 +27,12 @@ pub enum Command {
     Convert(ConvertArgs),
     /// Render a director's script to numbered PNG frames, a GIF, an MP4 and a contact sheet.
     Film(FilmArgs),
+    /// Find overlapping regions and voids (exit 1 when any are found).
+    Check(crate::check_cmd::CheckArgs),
+    /// Section view through a plane, coloured by region.
+    Slice(crate::check_cmd::SliceArgs),
+    /// Volume, centroid and mass of every region by ray sampling.
+    Volume(crate::check_cmd::VolumeArgs),
 }
 
 #[derive(Args, Debug, Clone)]
@@ -114,6 +120,9 @@ pub struct RenderArgs {
     /// Background: a grey level, an R,G,B colour, or a picture to composite over.
     #[arg(long, value_name = "VALUE|FILE")]
     pub background: Option<String>,
+    /// Paint pixels whose ray passes through an overlap in magenta and list the pairs.
+    #[arg(long)]
+    pub overlaps: bool,
 }
 
 #[derive(Args, Debug)]

@@ -22,6 +22,9 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Bench(a) => bench(a),
         Command::Film(a) => crate::film_cmd::film(a),
         Command::Convert(a) => convert(a),
+        Command::Check(a) => crate::check_cmd::check(a),
+        Command::Slice(a) => crate::check_cmd::slice(a),
+        Command::Volume(a) => crate::check_cmd::volume(a),
     }
 }
 
@@ -156,6 +159,9 @@ fn render(a: RenderArgs) -> Result<ExitCode, CliError> {
                 px[c] = geom + (1.0 - al) * bg[c];
             }
         }
+    }
+    if a.overlaps {
+        crate::check_cmd::paint_overlaps(&scene, a.scene.as_deref(), &r, &mut frame, &pool)?;
     }
     let opts = WriteOptions {
         sixteen_bit: a.sixteen_bit,

@@ -5,6 +5,7 @@
 //! write output or another run-time error.
 
 mod args;
+mod check_cmd;
 mod commands;
 mod film_cmd;
 mod load;

@@ -1,0 +1,225 @@
+//! What one ray sees: overlaps, voids and space outside the universe.
+
+use crate::model::{Hull, Model};
+use sv_geom::{Partition, Scratch};
+use sv_math::Ray;
+
+/// What kind of problem a stretch of ray is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum FindingKind {
+    /// Two regions (lower index first) both claim the stretch.
+    Overlap(u32, u32),
+    /// Inside the universe, claimed by no region; the regions met just
+    /// before and just after the gap along the ray (`None`: the universe's
+    /// own boundary), lower first.
+    Void(Option<u32>, Option<u32>),
+    /// A region claims space outside the universe's hull.
+    Outside(u32),
+}
+
+/// One problem stretch of a ray, `t0 < t1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Finding {
+    /// What it is.
+    pub kind: FindingKind,
+    /// Start along the ray.
+    pub t0: f64,
+    /// End along the ray.
+    pub t1: f64,
+}
+
+/// Per-thread working memory for classifying rays of a [`Model`].
+pub struct RayCheck<'a> {
+    model: &'a Model,
+    s: Scratch,
+    hs: Option<Scratch>,
+    /// Partitions of the last ray, clipped to its range.
+    pub parts: Vec<Partition>,
+    hull_parts: Vec<Partition>,
+    hull: Vec<(f64, f64)>,
+    cover: Vec<(f64, f64)>,
+    /// Problems found on the last ray.
+    pub findings: Vec<Finding>,
+}
+
+/// Classify one ray: overlaps longer than `tol` always; voids and
+/// stretches outside the universe when the model has a universe. Results
+/// are left in [`RayCheck::findings`] (and the partitions in
+/// [`RayCheck::parts`]).
+pub fn analyse_ray(rc: &mut RayCheck<'_>, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
+    rc.run(ray, tmin, tmax, tol)
+}
+
+fn merge_into(out: &mut Vec<(f64, f64)>, a: f64, b: f64) {
+    match out.last_mut() {
+        Some(last) if a <= last.1 => last.1 = last.1.max(b),
+        _ => out.push((a, b)),
+    }
+}
+
+impl<'a> RayCheck<'a> {
+    /// Working memory for `model`.
+    pub fn new(model: &'a Model) -> RayCheck<'a> {
+        let hs = match &model.hull {
+            Some(Hull::Prepared(p)) => Some(Scratch::new(p)),
+            _ => None,
+        };
+        RayCheck {
+            model,
+            s: Scratch::new(&model.prepared),
+            hs,
+            parts: Vec::new(),
+            hull_parts: Vec::new(),
+            hull: Vec::new(),
+            cover: Vec::new(),
+            findings: Vec::new(),
+        }
+    }
+
+    /// Only the partitions of the ray within `(tmin, tmax)`, clipped.
+    pub fn partitions(&mut self, ray: &Ray, tmin: f64, tmax: f64) {
+        self.model
+            .prepared
+            .partitions(ray, tmin, tmax, &mut self.s, &mut self.parts);
+        for p in &mut self.parts {
+            p.span.a.t = p.span.a.t.max(tmin);
+            p.span.b.t = p.span.b.t.min(tmax);
+        }
+        self.parts.retain(|p| p.span.b.t > p.span.a.t);
+    }
+
+    /// See [`analyse_ray`].
+    pub fn run(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
+        self.findings.clear();
+        self.partitions(ray, tmin, tmax);
+        let parts = &self.parts;
+        for (i, p) in parts.iter().enumerate() {
+            for q in &parts[i + 1..] {
+                if q.span.a.t >= p.span.b.t {
+                    break;
+                }
+                if q.region == p.region {
+                    continue;
+                }
+                let (lo, hi) = (q.span.a.t, p.span.b.t.min(q.span.b.t));
+                if hi - lo > tol {
+                    let (r1, r2) = (p.region.min(q.region), p.region.max(q.region));
+                    self.findings.push(Finding {
+                        kind: FindingKind::Overlap(r1, r2),
+                        t0: lo,
+                        t1: hi,
+                    });
+                }
+            }
+        }
+        let Some(hull) = &self.model.hull else {
+            return;
+        };
+        self.hull.clear();
+        match hull {
+            Hull::Everywhere => self.hull.push((tmin, tmax)),
+            Hull::Prepared(h) => {
+                let hs = self.hs.as_mut().expect("hull scratch");
+                h.partitions(ray, tmin, tmax, hs, &mut self.hull_parts);
+                for p in &self.hull_parts {
+                    let (a, b) = (p.span.a.t.max(tmin), p.span.b.t.min(tmax));
+                    if b > a {
+                        merge_into(&mut self.hull, a, b);
+                    }
+                }
+            }
+        }
+        self.cover.clear();
+        for p in &self.parts {
+            merge_into(&mut self.cover, p.span.a.t, p.span.b.t);
+        }
+        // Voids: hull minus cover.
+        for hi in 0..self.hull.len() {
+            let (h0, h1) = self.hull[hi];
+            let mut at = h0;
+            for ci in 0..self.cover.len() {
+                let (c0, c1) = self.cover[ci];
+                if c1 <= at {
+                    continue;
+                }
+                if c0 >= h1 {
+                    break;
+                }
+                if c0 - at > tol {
+                    self.void(at, c0);
+                }
+                at = at.max(c1);
+                if at >= h1 {
+                    break;
+                }
+            }
+            if h1 - at > tol {
+                self.void(at, h1);
+            }
+        }
+        // Space claimed outside the hull.
+        for p in &self.parts {
+            let (a, b) = (p.span.a.t, p.span.b.t);
+            let mut at = a;
+            for &(h0, h1) in &self.hull {
+                if h1 <= at {
+                    continue;
+                }
+                if h0 >= b {
+                    break;
+                }
+                if h0 - at > tol {
+                    self.findings.push(Finding {
+                        kind: FindingKind::Outside(p.region),
+                        t0: at,
+                        t1: h0,
+                    });
+                }
+                at = at.max(h1);
+                if at >= b {
+                    break;
+                }
+            }
+            if b - at > tol {
+                self.findings.push(Finding {
+                    kind: FindingKind::Outside(p.region),
+                    t0: at,
+                    t1: b,
+                });
+            }
+        }
+    }
+}
+
+impl RayCheck<'_> {
+    fn void(&mut self, t0: f64, t1: f64) {
+        let tol = self.model.prepared.tolerance() * 10.0;
+        let before = neighbour_before(&self.parts, t0, tol);
+        let after = neighbour_after(&self.parts, t1, tol);
+        let (x, y) = match (before, after) {
+            (Some(a), Some(b)) => (Some(a.min(b)), Some(a.max(b))),
+            (a, b) => (None, a.or(b)),
+        };
+        self.findings.push(Finding {
+            kind: FindingKind::Void(x, y),
+            t0,
+            t1,
+        });
+    }
+}
+
+fn neighbour_before(parts: &[Partition], t: f64, tol: f64) -> Option<u32> {
+    parts
+        .iter()
+        .filter(|p| (p.span.b.t - t).abs() <= tol.max(1e-12 * t.abs()))
+        .max_by(|a, b| a.span.b.t.total_cmp(&b.span.b.t))
+        .map(|p| p.region)
+}
+
+fn neighbour_after(parts: &[Partition], t: f64, tol: f64) -> Option<u32> {
+    parts
+        .iter()
+        .filter(|p| (p.span.a.t - t).abs() <= tol.max(1e-12 * t.abs()))
+        .min_by(|a, b| a.span.a.t.total_cmp(&b.span.a.t))
+        .map(|p| p.region)
+}

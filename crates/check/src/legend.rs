@@ -1,0 +1,346 @@
+//! The legend strip drawn under a section view: a swatch and the name of
+//! every region in the picture, then the overlaps and the void, in a small
+//! built-in 5×7 pixel font (capitals, digits and a little punctuation;
+//! small letters are drawn as capitals).
+
+use crate::colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
+use crate::slice::Slice;
+
+/// Glyph rows, 5 pixels wide, `#` set.
+fn glyph(c: char) -> [&'static str; 7] {
+    match c.to_ascii_uppercase() {
+        ' ' => ["     "; 7],
+        'A' => [
+            " ### ", "#   #", "#   #", "#####", "#   #", "#   #", "#   #",
+        ],
+        'B' => [
+            "#### ", "#   #", "#   #", "#### ", "#   #", "#   #", "#### ",
+        ],
+        'C' => [
+            " ### ", "#   #", "#    ", "#    ", "#    ", "#   #", " ### ",
+        ],
+        'D' => [
+            "#### ", "#   #", "#   #", "#   #", "#   #", "#   #", "#### ",
+        ],
+        'E' => [
+            "#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#####",
+        ],
+        'F' => [
+            "#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#    ",
+        ],
+        'G' => [
+            " ### ", "#   #", "#    ", "# ###", "#   #", "#   #", " ####",
+        ],
+        'H' => [
+            "#   #", "#   #", "#   #", "#####", "#   #", "#   #", "#   #",
+        ],
+        'I' => [
+            " ### ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
+        ],
+        'J' => [
+            "  ###", "   # ", "   # ", "   # ", "   # ", "#  # ", " ##  ",
+        ],
+        'K' => [
+            "#   #", "#  # ", "# #  ", "##   ", "# #  ", "#  # ", "#   #",
+        ],
+        'L' => [
+            "#    ", "#    ", "#    ", "#    ", "#    ", "#    ", "#####",
+        ],
+        'M' => [
+            "#   #", "## ##", "# # #", "# # #", "#   #", "#   #", "#   #",
+        ],
+        'N' => [
+            "#   #", "#   #", "##  #", "# # #", "#  ##", "#   #", "#   #",
+        ],
+        'O' => [
+            " ### ", "#   #", "#   #", "#   #", "#   #", "#   #", " ### ",
+        ],
+        'P' => [
+            "#### ", "#   #", "#   #", "#### ", "#    ", "#    ", "#    ",
+        ],
+        'Q' => [
+            " ### ", "#   #", "#   #", "#   #", "# # #", "#  # ", " ## #",
+        ],
+        'R' => [
+            "#### ", "#   #", "#   #", "#### ", "# #  ", "#  # ", "#   #",
+        ],
+        'S' => [
+            " ####", "#    ", "#    ", " ### ", "    #", "    #", "#### ",
+        ],
+        'T' => [
+            "#####", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ",
+        ],
+        'U' => [
+            "#   #", "#   #", "#   #", "#   #", "#   #", "#   #", " ### ",
+        ],
+        'V' => [
+            "#   #", "#   #", "#   #", "#   #", "#   #", " # # ", "  #  ",
+        ],
+        'W' => [
+            "#   #", "#   #", "#   #", "# # #", "# # #", "# # #", " # # ",
+        ],
+        'X' => [
+            "#   #", "#   #", " # # ", "  #  ", " # # ", "#   #", "#   #",
+        ],
+        'Y' => [
+            "#   #", "#   #", " # # ", "  #  ", "  #  ", "  #  ", "  #  ",
+        ],
+        'Z' => [
+            "#####", "    #", "   # ", "  #  ", " #   ", "#    ", "#####",
+        ],
+        '0' => [
+            " ### ", "#   #", "#  ##", "# # #", "##  #", "#   #", " ### ",
+        ],
+        '1' => [
+            "  #  ", " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
+        ],
+        '2' => [
+            " ### ", "#   #", "    #", "   # ", "  #  ", " #   ", "#####",
+        ],
+        '3' => [
+            "#####", "   # ", "  #  ", "   # ", "    #", "#   #", " ### ",
+        ],
+        '4' => [
+            "   # ", "  ## ", " # # ", "#  # ", "#####", "   # ", "   # ",
+        ],
+        '5' => [
+            "#####", "#    ", "#### ", "    #", "    #", "#   #", " ### ",
+        ],
+        '6' => [
+            "  ## ", " #   ", "#    ", "#### ", "#   #", "#   #", " ### ",
+        ],
+        '7' => [
+            "#####", "    #", "   # ", "  #  ", " #   ", " #   ", " #   ",
+        ],
+        '8' => [
+            " ### ", "#   #", "#   #", " ### ", "#   #", "#   #", " ### ",
+        ],
+        '9' => [
+            " ### ", "#   #", "#   #", " ####", "    #", "   # ", " ##  ",
+        ],
+        '-' => [
+            "     ", "     ", "     ", "#####", "     ", "     ", "     ",
+        ],
+        '_' => [
+            "     ", "     ", "     ", "     ", "     ", "     ", "#####",
+        ],
+        '.' => [
+            "     ", "     ", "     ", "     ", "     ", " ##  ", " ##  ",
+        ],
+        ',' => [
+            "     ", "     ", "     ", "     ", " ##  ", "  #  ", " #   ",
+        ],
+        '(' => [
+            "   # ", "  #  ", " #   ", " #   ", " #   ", "  #  ", "   # ",
+        ],
+        ')' => [
+            " #   ", "  #  ", "   # ", "   # ", "   # ", "  #  ", " #   ",
+        ],
+        '[' => [
+            " ### ", " #   ", " #   ", " #   ", " #   ", " #   ", " ### ",
+        ],
+        ']' => [
+            " ### ", "   # ", "   # ", "   # ", "   # ", "   # ", " ### ",
+        ],
+        '×' => [
+            "     ", "#   #", " # # ", "  #  ", " # # ", "#   #", "     ",
+        ],
+        '/' => [
+            "     ", "    #", "   # ", "  #  ", " #   ", "#    ", "     ",
+        ],
+        ':' => [
+            "     ", " ##  ", " ##  ", "     ", " ##  ", " ##  ", "     ",
+        ],
+        '+' => [
+            "     ", "  #  ", "  #  ", "#####", "  #  ", "  #  ", "     ",
+        ],
+        '=' => [
+            "     ", "     ", "#####", "     ", "#####", "     ", "     ",
+        ],
+        '#' => [
+            " # # ", " # # ", "#####", " # # ", "#####", " # # ", " # # ",
+        ],
+        '\'' => [
+            "  #  ", "  #  ", "     ", "     ", "     ", "     ", "     ",
+        ],
+        '*' => [
+            "     ", "# # #", " ### ", "#####", " ### ", "# # #", "     ",
+        ],
+        '&' => [
+            " ##  ", "#  # ", "# #  ", " #   ", "# # #", "#  # ", " ## #",
+        ],
+        '$' => [
+            "  #  ", " ####", "# #  ", " ### ", "  # #", "#### ", "  #  ",
+        ],
+        '!' => [
+            "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", "     ", "  #  ",
+        ],
+        _ => [
+            "#####", "#   #", "#   #", "#   #", "#   #", "#   #", "#####",
+        ],
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Swatch {
+    Solid([f32; 3]),
+    Stripes([f32; 3]),
+}
+
+struct Canvas {
+    w: usize,
+    h: usize,
+    px: Vec<[f32; 3]>,
+}
+
+impl Canvas {
+    fn set(&mut self, x: usize, y: usize, c: [f32; 3]) {
+        if x < self.w && y < self.h {
+            self.px[y * self.w + x] = c;
+        }
+    }
+
+    fn text(&mut self, x0: usize, y0: usize, s: &str, scale: usize) {
+        for (k, ch) in s.chars().enumerate() {
+            for (row, bits) in glyph(ch).iter().enumerate() {
+                for (col, b) in bits.bytes().enumerate() {
+                    if b == b'#' {
+                        for dy in 0..scale {
+                            for dx in 0..scale {
+                                self.set(
+                                    x0 + (k * 6 + col) * scale + dx,
+                                    y0 + row * scale + dy,
+                                    [0.0; 3],
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The section view with its legend strip underneath: `(width, height,
+/// pixels)`, display colours row-major from the top left. The strip lists
+/// every region in the picture (largest first; name and description),
+/// then the overlapping pairs
+/// and the void, each with its swatch; at most 80 entries, then a count of
+/// the rest (the full list is in the legend file).
+pub fn with_legend(s: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
+    let w = s.width as usize;
+    let scale = if w >= 560 { 2 } else { 1 };
+    let mut entries: Vec<(Swatch, String)> = s
+        .legend
+        .iter()
+        .map(|e| {
+            let text = if e.description.is_empty() || e.description == e.label {
+                e.label.clone()
+            } else {
+                format!("{} {}", e.label, e.description)
+            };
+            (Swatch::Solid(region_colour(&e.label)), text)
+        })
+        .collect();
+    entries.extend(
+        s.overlaps
+            .iter()
+            .map(|e| (Swatch::Stripes(OVERLAP_COLOUR), e.label.clone())),
+    );
+    if s.void.is_some() {
+        entries.push((Swatch::Stripes(VOID_COLOUR), "void".into()));
+    }
+    const MAX: usize = 80;
+    if entries.len() > MAX {
+        let rest = entries.len() - (MAX - 1);
+        entries.truncate(MAX - 1);
+        entries.push((Swatch::Solid([1.0; 3]), format!("... {rest} more")));
+    }
+    let margin = 4 * scale;
+    let sw = 7 * scale;
+    let line = 11 * scale;
+    let char_w = 6 * scale;
+    let max_chars = ((w.saturating_sub(2 * margin + sw + 3 * scale)) / char_w).max(1);
+    let label = |t: &str| -> String {
+        if t.chars().count() <= max_chars {
+            t.to_string()
+        } else {
+            let mut s: String = t.chars().take(max_chars.saturating_sub(1)).collect();
+            s.push('*');
+            s
+        }
+    };
+    let longest = entries
+        .iter()
+        .map(|(_, t)| label(t).chars().count())
+        .max()
+        .unwrap_or(0);
+    let col_w = sw + 3 * scale + longest * char_w + 8 * scale;
+    let cols = ((w.saturating_sub(2 * margin)) / col_w.max(1)).max(1);
+    let rows = entries.len().div_ceil(cols);
+    let strip = if entries.is_empty() {
+        0
+    } else {
+        2 * margin + rows * line
+    };
+    let h = s.height as usize + strip;
+    let mut c = Canvas {
+        w,
+        h,
+        px: vec![[1.0; 3]; w * h],
+    };
+    c.px[..s.rgb.len()].copy_from_slice(&s.rgb);
+    if strip > 0 {
+        for x in 0..w {
+            c.set(x, s.height as usize, [0.3; 3]);
+        }
+    }
+    for (k, (swatch, text)) in entries.iter().enumerate() {
+        let (col, row) = (k % cols, k / cols);
+        let x0 = margin + col * col_w;
+        let y0 = s.height as usize + margin + row * line + scale;
+        for dy in 0..sw {
+            for dx in 0..sw {
+                let edge = dx == 0 || dy == 0 || dx + 1 == sw || dy + 1 == sw;
+                let colour = match *swatch {
+                    _ if edge => [0.3; 3],
+                    Swatch::Solid(c) => c,
+                    Swatch::Stripes(c) => {
+                        if ((dx + dy) / (2 * scale)) % 2 == 0 {
+                            c
+                        } else {
+                            [0.1; 3]
+                        }
+                    }
+                };
+                c.set(x0 + dx, y0 + dy, colour);
+            }
+        }
+        c.text(x0 + sw + 3 * scale, y0, &label(text), scale);
+    }
+    (s.width, h as u32, c.px)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn glyphs_are_five_by_seven() {
+        for ch in "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 -_.,()[]×/:+=#'*&$!?".chars() {
+            for row in glyph(ch) {
+                assert_eq!(row.len(), 5, "{ch}");
+            }
+        }
+        // Distinct glyphs for distinct letters and digits.
+        let all: Vec<_> = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+            .chars()
+            .map(glyph)
+            .collect();
+        for i in 0..all.len() {
+            for j in i + 1..all.len() {
+                assert_ne!(all[i], all[j]);
+            }
+        }
+    }
+}

@@ -1,0 +1,293 @@
+//! The model to check: the prepared geometry, region names, the declared
+//! universe and its hull.
+
+use sv_geom::{Geometry, Op, PrepareError, PrepareOptions, Prepared, Region, Warning, Zone};
+use sv_math::Aabb;
+use sv_scene::Scene;
+
+/// Which space the regions are declared to fill.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum UniverseChoice {
+    /// No universe: voids are not looked for.
+    None,
+    /// Look for a black-hole region (see [`Model::new`]); none found means
+    /// no universe.
+    Auto,
+    /// A region or, failing that, a body of this name.
+    Named(String),
+}
+
+/// The declared universe: every point inside it must belong to a region.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Universe {
+    /// A region. Its hull (the union over its zones of the intersection of
+    /// the zone's `+` bodies, its `-` bodies ignored) must be filled: by the
+    /// region itself and by the regions placed in its holes.
+    Region(usize),
+    /// A body: its inside must be filled by regions.
+    Body(usize),
+}
+
+/// A model that cannot be checked.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckError {
+    /// The geometry does not prepare.
+    #[error("{0}")]
+    Prepare(#[from] PrepareError),
+    /// `--universe` names no region and no body.
+    #[error("the universe `{0}` is neither a region nor a body")]
+    UnknownUniverse(String),
+    /// Nothing finite to shoot rays at.
+    #[error("the model has no finite region, so there is no box to fire rays through; give one (check --box, slice --extent)")]
+    Unbounded,
+    /// An option out of range.
+    #[error("{0}")]
+    Option(String),
+}
+
+/// The hull of the universe along a ray.
+#[derive(Clone, Debug)]
+pub(crate) enum Hull {
+    /// A geometry with one region: the hull.
+    Prepared(Box<Prepared>),
+    /// The universe has a zone without `+` bodies: it is everywhere.
+    Everywhere,
+}
+
+/// What [`check`](crate::check), [`slice`](crate::slice()) and
+/// [`volumes`](crate::volumes) work on.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// The prepared geometry (every region opaque; transparency plays no
+    /// part in checking).
+    pub prepared: Prepared,
+    /// Region names, by index.
+    pub names: Vec<String>,
+    /// The universe, when one was given or found.
+    pub universe: Option<Universe>,
+    /// Name of the universe and how it was chosen, for reports.
+    pub universe_note: Option<String>,
+    /// Densities (g/cm³) by region, when known.
+    pub densities: Vec<Option<f64>>,
+    /// Air regions (non-zero COMGEOM air code), by index.
+    pub air: Vec<bool>,
+    /// Region descriptions (the deck's comment column), by index.
+    pub descriptions: Vec<String>,
+    /// Centimetres per model unit.
+    pub cm_per_unit: f64,
+    /// Short name of the model unit (`in`, `mm`…).
+    pub unit: String,
+    pub(crate) hull: Option<Hull>,
+    pub(crate) region_bounds: Vec<Aabb>,
+    box_: Aabb,
+}
+
+/// Words that mark a black-hole region in a region's description or in the
+/// scene's notes (FLUKA's `BLCKHOLE` material), and region names used for
+/// it by convention.
+const BLACK_HOLE_WORDS: &[&str] = &["blckhole", "black hole", "blackhole", "black-hole"];
+const BLACK_HOLE_NAMES: &[&str] = &["blkhole", "blckhole", "blackhole", "blkbody"];
+
+fn is_word_in(text: &str, word: &str) -> bool {
+    text.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.' || c == '-'))
+        .any(|w| w == word)
+}
+
+/// The region that looks like a FLUKA black hole, with the reason.
+fn detect_black_hole(scene: &Scene) -> Option<(usize, String)> {
+    for (i, p) in scene.regions.iter().enumerate() {
+        let d = p.description.to_ascii_lowercase();
+        if let Some(w) = BLACK_HOLE_WORDS.iter().find(|w| d.contains(**w)) {
+            return Some((i, format!("its description mentions `{w}`")));
+        }
+    }
+    for note in &scene.notes {
+        let n = note.to_ascii_lowercase();
+        if BLACK_HOLE_WORDS.iter().any(|w| n.contains(*w)) {
+            for (i, r) in scene.geometry.regions.iter().enumerate() {
+                if is_word_in(note, &r.name) {
+                    return Some((i, format!("the note `{note}` names it")));
+                }
+            }
+        }
+    }
+    for (i, r) in scene.geometry.regions.iter().enumerate() {
+        let n = r.name.to_ascii_lowercase();
+        if BLACK_HOLE_NAMES.contains(&n.as_str()) {
+            return Some((i, "its name is a black-hole name".into()));
+        }
+    }
+    None
+}
+
+/// Bounds of region `r`: union over its zones of the intersection of the
+/// zone's `+` bodies' bounds.
+fn region_bounds(p: &Prepared, r: &Region) -> Aabb {
+    r.zones.iter().fold(Aabb::EMPTY, |acc, z| {
+        let zb = z
+            .terms
+            .iter()
+            .filter(|t| t.op == Op::Inside && t.body < p.body_count())
+            .fold(Aabb::INFINITE, |b, t| {
+                b.intersection(&p.body_bounds(t.body))
+            });
+        if zb.is_empty() {
+            acc
+        } else {
+            acc.union(&zb)
+        }
+    })
+}
+
+/// The default overlap and void tolerance: 1e-5 of the diagonal of the
+/// model's bounds (0.01 mm on a 1 m model).
+pub fn default_tolerance(p: &Prepared) -> f64 {
+    let b = p.bounds();
+    if b.is_empty() || !b.is_finite() {
+        1e-9
+    } else {
+        (1e-5 * b.diagonal()).max(1e-12)
+    }
+}
+
+impl Model {
+    /// Prepare `scene` for checking. With [`UniverseChoice::Auto`], a region
+    /// is taken as the universe when its description contains `BLCKHOLE`
+    /// (FLUKA's black-hole material), `black hole` or `blackhole` (any
+    /// case); else when a note of the scene mentions a black hole and names
+    /// the region; else when the region is called `BLKHOLE`, `BLCKHOLE`,
+    /// `BLACKHOLE` or `BLKBODY` (any case).
+    pub fn new(
+        scene: &Scene,
+        choice: &UniverseChoice,
+    ) -> Result<(Model, Vec<Warning>), CheckError> {
+        let g = &scene.geometry;
+        let (prepared, warnings) = Prepared::new(g, &PrepareOptions::default())?;
+        let (universe, note) = match choice {
+            UniverseChoice::None => (None, None),
+            UniverseChoice::Auto => match detect_black_hole(scene) {
+                Some((i, why)) => (
+                    Some(Universe::Region(i)),
+                    Some(format!(
+                        "region `{}` (found automatically: {why})",
+                        g.regions[i].name
+                    )),
+                ),
+                None => (None, None),
+            },
+            UniverseChoice::Named(n) => {
+                if let Some(i) = g.region_index(n) {
+                    (Some(Universe::Region(i)), Some(format!("region `{n}`")))
+                } else if let Some(i) = g.body_index(n) {
+                    (Some(Universe::Body(i)), Some(format!("body `{n}`")))
+                } else {
+                    return Err(CheckError::UnknownUniverse(n.clone()));
+                }
+            }
+        };
+        let hull = match universe {
+            None => None,
+            Some(u) => Some(build_hull(g, u)?),
+        };
+        let region_bounds: Vec<Aabb> = g
+            .regions
+            .iter()
+            .map(|r| region_bounds(&prepared, r))
+            .collect();
+        let mut box_ = prepared.bounds();
+        if let Some(Hull::Prepared(h)) = &hull {
+            if h.bounds().is_finite() {
+                box_ = box_.union(&h.bounds());
+            }
+        }
+        Ok((
+            Model {
+                prepared,
+                names: g.regions.iter().map(|r| r.name.clone()).collect(),
+                universe,
+                universe_note: note,
+                densities: scene.regions.iter().map(|r| r.density).collect(),
+                descriptions: (0..g.regions.len())
+                    .map(|i| {
+                        scene
+                            .regions
+                            .get(i)
+                            .map_or(String::new(), |r| r.description.trim().to_string())
+                    })
+                    .collect(),
+                air: (0..g.regions.len())
+                    .map(|i| scene.regions.get(i).is_some_and(|r| r.air != 0))
+                    .collect(),
+                cm_per_unit: scene.units.mm() / 10.0,
+                unit: scene.units.abbrev().to_string(),
+                hull,
+                region_bounds,
+                box_,
+            },
+            warnings,
+        ))
+    }
+
+    /// The box that checks and samples cover: the bounds of every finite
+    /// zone and of the universe's hull. Empty when every zone is unbounded.
+    pub fn bounds(&self) -> Aabb {
+        self.box_
+    }
+
+    /// [`Model::bounds`], or [`CheckError::Unbounded`] when it is empty.
+    pub fn finite_bounds(&self) -> Result<Aabb, CheckError> {
+        if self.box_.is_empty() || !self.box_.is_finite() {
+            Err(CheckError::Unbounded)
+        } else {
+            Ok(self.box_)
+        }
+    }
+
+    /// Bounds of region `r` from its `+` bodies, clipped to [`Model::bounds`]
+    /// (so unbounded regions are measured inside the model's box).
+    pub fn region_bounds(&self, r: usize) -> Aabb {
+        self.region_bounds[r].intersection(&self.box_)
+    }
+
+    /// True when region `r` reaches outside [`Model::bounds`].
+    pub fn region_is_clipped(&self, r: usize) -> bool {
+        let b = self.region_bounds[r];
+        !b.is_empty() && b.union(&self.box_) != self.box_
+    }
+}
+
+fn build_hull(g: &Geometry, u: Universe) -> Result<Hull, CheckError> {
+    let zones: Vec<Zone> = match u {
+        Universe::Body(b) => vec![Zone {
+            terms: vec![sv_geom::Term {
+                op: Op::Inside,
+                body: b,
+            }],
+        }],
+        Universe::Region(r) => {
+            let mut zs = Vec::new();
+            for z in &g.regions[r].zones {
+                let terms: Vec<_> = z
+                    .terms
+                    .iter()
+                    .copied()
+                    .filter(|t| t.op == Op::Inside)
+                    .collect();
+                if terms.is_empty() {
+                    return Ok(Hull::Everywhere);
+                }
+                zs.push(Zone { terms });
+            }
+            zs
+        }
+    };
+    let hg = Geometry {
+        bodies: g.bodies.clone(),
+        regions: vec![Region {
+            name: "universe".into(),
+            zones,
+        }],
+    };
+    let (p, _) = Prepared::new(&hg, &PrepareOptions::default())?;
+    Ok(Hull::Prepared(Box::new(p)))
+}

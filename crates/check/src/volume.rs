@@ -1,0 +1,392 @@
+//! `volume`: region volumes, errors, centroids and masses by ray sampling,
+//! as BRL-CAD's `gqa` does.
+//!
+//! A *batch* fires, along each of x, y and z, one ray through a random
+//! point of every cell of an N×N grid over the box's face (a jittered
+//! grid). Each ray's stretch inside a region, times the cell's area, is an
+//! unbiased estimate of the region's volume; the three axes are averaged.
+//! Batches are independent, so the spread of their results gives the
+//! standard error of the mean. Batches over the whole model run first;
+//! regions much smaller than the model that have not converged are then
+//! sampled with batches over their own bounds, restarting their statistics.
+
+use crate::analyse::RayCheck;
+use crate::check::fmt_g;
+use crate::model::{CheckError, Model};
+use crate::rng::uniform;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::time::Instant;
+use sv_math::{Aabb, DVec3, Ray};
+
+/// Options for [`volumes`].
+#[derive(Clone, Debug)]
+pub struct VolumeOptions {
+    /// Target relative standard error of every region's volume (0.001).
+    pub rel_error: f64,
+    /// Grid cells per side of a batch over the whole model (128).
+    pub rays_per_side: u32,
+    /// Grid cells per side of a batch over one region's bounds (48).
+    pub region_rays_per_side: u32,
+    /// Batches before the error estimate is trusted (8).
+    pub min_batches: u32,
+    /// Stop after about this many rays in all (20 million).
+    pub max_rays: u64,
+    /// Seed of the jitter.
+    pub seed: u64,
+}
+
+impl Default for VolumeOptions {
+    fn default() -> Self {
+        VolumeOptions {
+            rel_error: 1e-3,
+            rays_per_side: 128,
+            region_rays_per_side: 48,
+            min_batches: 8,
+            max_rays: 20_000_000,
+            seed: 1971,
+        }
+    }
+}
+
+/// One region's measurements.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RegionVolume {
+    /// Region name.
+    pub region: String,
+    /// Volume (units³).
+    pub volume: f64,
+    /// Standard error of the volume (one sigma, units³).
+    pub error: f64,
+    /// `error / volume` (infinite when nothing was hit).
+    pub rel_error: f64,
+    /// Centroid, when the region was hit.
+    pub centroid: Option<[f64; 3]>,
+    /// Mass in grams, when the region's density is known.
+    pub mass_g: Option<f64>,
+    /// Standard error of the mass in grams.
+    pub mass_error_g: Option<f64>,
+    /// True when the target relative error was reached.
+    pub converged: bool,
+    /// Batches that make up the estimate.
+    pub batches: u32,
+    /// True when the region is unbounded and was measured inside the
+    /// model's box only.
+    pub clipped: bool,
+}
+
+/// The result of [`volumes`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct VolumeReport {
+    /// Model unit.
+    pub unit: String,
+    /// Target relative error.
+    pub rel_error_target: f64,
+    /// Rays fired.
+    pub rays: u64,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// Every region, deck order.
+    pub regions: Vec<RegionVolume>,
+    /// Names of the regions that did not reach the target.
+    pub not_converged: Vec<String>,
+}
+
+impl VolumeReport {
+    /// The report as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a report serialises")
+    }
+
+    /// The report as a table.
+    pub fn to_table(&self) -> String {
+        let u = &self.unit;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}",
+            "region",
+            format!("volume {u}³"),
+            "± (1σ)",
+            "rel",
+            "centroid (x, y, z)",
+            "mass g"
+        );
+        for r in &self.regions {
+            let c = r.centroid.map_or("-".to_string(), |c| {
+                format!("({}, {}, {})", fmt_g(c[0]), fmt_g(c[1]), fmt_g(c[2]))
+            });
+            let m = match (r.mass_g, r.mass_error_g) {
+                (Some(m), Some(e)) => format!("{} ± {}", fmt_g(m), fmt_g(e)),
+                _ => "-".into(),
+            };
+            let flag = match (r.converged, r.clipped) {
+                (true, false) => "",
+                (true, true) => "  (clipped to the box)",
+                (false, false) => "  (not converged)",
+                (false, true) => "  (not converged; clipped to the box)",
+            };
+            let _ = writeln!(
+                s,
+                "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}{flag}",
+                r.region,
+                fmt_g(r.volume),
+                fmt_g(r.error),
+                if r.rel_error.is_finite() {
+                    format!("{:.2e}", r.rel_error)
+                } else {
+                    "-".into()
+                },
+                c,
+                m
+            );
+        }
+        let _ = writeln!(
+            s,
+            "{} rays in {:.2} s; target relative error {}",
+            self.rays,
+            self.seconds,
+            fmt_g(self.rel_error_target)
+        );
+        if self.not_converged.is_empty() {
+            let _ = writeln!(s, "every region converged");
+        } else {
+            let _ = writeln!(
+                s,
+                "did not converge ({}): {}",
+                self.not_converged.len(),
+                self.not_converged.join(", ")
+            );
+        }
+        s
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Stats {
+    n: u32,
+    mean: f64,
+    m2: f64,
+    moment: DVec3,
+}
+
+impl Stats {
+    fn add(&mut self, v: f64, m: DVec3) {
+        self.n += 1;
+        let d = v - self.mean;
+        self.mean += d / self.n as f64;
+        self.m2 += d * (v - self.mean);
+        self.moment += m;
+    }
+
+    fn stderr(&self) -> f64 {
+        if self.n < 2 {
+            return f64::INFINITY;
+        }
+        (self.m2 / (self.n - 1) as f64 / self.n as f64)
+            .max(0.0)
+            .sqrt()
+    }
+
+    fn converged(&self, rel: f64, min: u32) -> bool {
+        self.n >= min && self.mean > 0.0 && self.stderr() <= rel * self.mean
+    }
+}
+
+/// One batch over `bx` with `n`×`n` cells per axis. Returns, per region
+/// hit (only `only` when given), the volume estimate and the first moment.
+fn batch(
+    model: &Model,
+    bx: &Aabb,
+    n: u32,
+    seed: u64,
+    id: u64,
+    only: Option<u32>,
+) -> Vec<(u32, f64, DVec3)> {
+    let size = bx.size();
+    let pad = 1e-3 * size.length() + 1e-9;
+    let rows: Vec<Vec<(u32, f64, DVec3)>> = (0..3 * n as u64)
+        .into_par_iter()
+        .map_init(
+            || RayCheck::new(model),
+            |rc, row| {
+                let k = (row / n as u64) as usize;
+                let j = row % n as u64;
+                let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+                let (cu, cv) = (size[u] / n as f64, size[v] / n as f64);
+                let area = cu * cv / 3.0;
+                let mut out = Vec::new();
+                for i in 0..n as u64 {
+                    let key = (row << 20) | i;
+                    let mut o = DVec3::ZERO;
+                    o[k] = bx.min[k] - pad;
+                    o[u] = bx.min[u] + (i as f64 + uniform(seed, id, key, 0)) * cu;
+                    o[v] = bx.min[v] + (j as f64 + uniform(seed, id, key, 1)) * cv;
+                    let mut dir = DVec3::ZERO;
+                    dir[k] = 1.0;
+                    let ray = Ray::new(o, dir);
+                    rc.partitions(&ray, 0.0, size[k] + 2.0 * pad);
+                    for p in &rc.parts {
+                        if only.is_some_and(|r| r != p.region) {
+                            continue;
+                        }
+                        let len = p.span.b.t - p.span.a.t;
+                        let mid = ray.at(0.5 * (p.span.a.t + p.span.b.t));
+                        out.push((p.region, len * area, mid * (len * area)));
+                    }
+                }
+                out
+            },
+        )
+        .collect();
+    rows.into_iter().flatten().collect()
+}
+
+/// The sampled box: `b` with a margin of 3.14 % of its diagonal. Without
+/// it, a region that fills its bounds (a box) would have its faces on the
+/// cell edges, every batch would give the same answer up to rare misses in
+/// the engine's tiny padding of the bounds, and the spread of the batches
+/// would understate the error.
+fn margin(b: &Aabb) -> Aabb {
+    b.padded(0.0314 * b.size().length() + 1e-12)
+}
+
+/// Measure every region of `model`. Runs on the current rayon pool.
+pub fn volumes(model: &Model, opts: &VolumeOptions) -> Result<VolumeReport, CheckError> {
+    if !(opts.rel_error > 0.0 && opts.rel_error < 1.0) {
+        return Err(CheckError::Option(format!(
+            "the relative error must lie between 0 and 1, found {}",
+            opts.rel_error
+        )));
+    }
+    if opts.rays_per_side == 0 || opts.region_rays_per_side == 0 || opts.min_batches < 2 {
+        return Err(CheckError::Option(
+            "batches need at least one ray per side and two batches".into(),
+        ));
+    }
+    let start = Instant::now();
+    let nr = model.names.len();
+    let bx = model.finite_bounds()?;
+    let box_vol = bx.size().x * bx.size().y * bx.size().z;
+    let mut stats = vec![Stats::default(); nr];
+    let mut rays: u64 = 0;
+    let rel = opts.rel_error;
+    let min = opts.min_batches;
+    // Regions whose bounds fill less than an eighth of the box get their
+    // own batches when the global ones do not settle them.
+    let small: Vec<bool> = (0..nr)
+        .map(|r| {
+            let b = model.region_bounds(r);
+            let s = b.size();
+            !b.is_empty() && s.x * s.y * s.z < box_vol / 8.0
+        })
+        .collect();
+    let per_global = 3 * (opts.rays_per_side as u64).pow(2);
+    let global_budget = if small.iter().any(|s| *s) {
+        opts.max_rays / 2
+    } else {
+        opts.max_rays
+    };
+    let mut id: u64 = 0;
+    loop {
+        let mut sums = vec![(0.0, DVec3::ZERO); nr];
+        for (r, v, m) in batch(model, &margin(&bx), opts.rays_per_side, opts.seed, id, None) {
+            sums[r as usize].0 += v;
+            sums[r as usize].1 += m;
+        }
+        id += 1;
+        rays += per_global;
+        for (st, (v, m)) in stats.iter_mut().zip(sums) {
+            st.add(v, m);
+        }
+        // Regions never hit after the minimum are empty or too thin to see.
+        let settled = |st: &Stats| st.converged(rel, min) || (st.n >= min && st.mean == 0.0);
+        let pending = (0..nr).any(|r| !small[r] && !settled(&stats[r]));
+        let more_small = (0..nr).any(|r| small[r] && stats[r].n < min);
+        if (!pending && !more_small) || rays + per_global > global_budget {
+            break;
+        }
+    }
+    // Targeted batches, round robin over the small regions left.
+    let per_region = 3 * (opts.region_rays_per_side as u64).pow(2);
+    let mut todo: Vec<usize> = (0..nr)
+        .filter(|&r| small[r] && !stats[r].converged(rel, min))
+        .collect();
+    for &r in &todo {
+        stats[r] = Stats::default();
+    }
+    while !todo.is_empty() && rays + per_region <= opts.max_rays {
+        let mut next = Vec::new();
+        for &r in &todo {
+            if rays + per_region > opts.max_rays {
+                next.push(r);
+                continue;
+            }
+            let b = margin(&model.region_bounds(r));
+            let (mut v, mut m) = (0.0, DVec3::ZERO);
+            for (_, dv, dm) in batch(
+                model,
+                &b,
+                opts.region_rays_per_side,
+                opts.seed ^ 0x7a29_e7ed,
+                ((r as u64) << 24) | stats[r].n as u64,
+                Some(r as u32),
+            ) {
+                v += dv;
+                m += dm;
+            }
+            rays += per_region;
+            stats[r].add(v, m);
+            let st = stats[r];
+            let hopeless = st.n >= min && st.mean == 0.0;
+            if !st.converged(rel, min) && !hopeless {
+                next.push(r);
+            }
+        }
+        todo = next;
+    }
+    let mut regions = Vec::with_capacity(nr);
+    let mut not_converged = Vec::new();
+    let cm3 = model.cm_per_unit.powi(3);
+    for (r, st) in stats.iter().enumerate() {
+        let err = if st.mean > 0.0 { st.stderr() } else { 0.0 };
+        let converged = st.converged(rel, min);
+        if !converged {
+            not_converged.push(model.names[r].clone());
+        }
+        let centroid = if st.mean > 0.0 {
+            Some((st.moment / (st.mean * st.n as f64)).to_array())
+        } else {
+            None
+        };
+        let (mass, merr) = match model.densities.get(r).copied().flatten() {
+            Some(d) => (Some(st.mean * cm3 * d), Some(err * cm3 * d)),
+            None => (None, None),
+        };
+        regions.push(RegionVolume {
+            region: model.names[r].clone(),
+            volume: st.mean,
+            error: err,
+            rel_error: if st.mean > 0.0 {
+                err / st.mean
+            } else {
+                f64::INFINITY
+            },
+            centroid,
+            mass_g: mass,
+            mass_error_g: merr,
+            converged,
+            batches: st.n,
+            clipped: model.region_is_clipped(r),
+        });
+    }
+    Ok(VolumeReport {
+        unit: model.unit.clone(),
+        rel_error_target: rel,
+        rays,
+        seconds: start.elapsed().as_secs_f64(),
+        regions,
+        not_converged,
+    })
+}

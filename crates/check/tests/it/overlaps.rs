@@ -1,0 +1,426 @@
+use crate::model;
+use sv_check::{check, CheckOptions, UniverseChoice};
+use sv_math::DVec3;
+
+const SPHERES: &str = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.5,0,0) 1
+REGION A = +a
+REGION B = +b
+";
+
+#[test]
+fn two_intersecting_spheres_are_reported_with_pair_point_and_volume() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert_eq!(r.overlaps.len(), 1, "{}", r.to_table());
+    let o = &r.overlaps[0];
+    assert_eq!(o.regions, ["A".to_string(), "B".to_string()]);
+    assert_eq!(o.region_indices, [0, 1]);
+    let p = DVec3::from_array(o.problem.point);
+    assert!(
+        p.length() < 1.0 && (p - DVec3::new(1.5, 0.0, 0.0)).length() < 1.0,
+        "{p}"
+    );
+    // The lens is 0.5 thick along the line of centres and 2·√(1 − 0.75²)
+    // across: the longest stretch is nearly that.
+    let across = 2.0 * (1.0f64 - 0.5625).sqrt();
+    assert!(o.problem.max_length <= across + 1e-9);
+    assert!(
+        o.problem.max_length > across - 0.02,
+        "{}",
+        o.problem.max_length
+    );
+    // Lens volume π(4R+d)(2R−d)²/12.
+    let lens = std::f64::consts::PI * 5.5 * 0.25 / 12.0;
+    assert!(
+        (o.problem.volume - lens).abs() < 0.02 * lens,
+        "{} vs {lens}",
+        o.problem.volume
+    );
+    assert!(!r.is_clean());
+    assert!(r.voids.is_empty() && r.outside.is_empty());
+}
+
+#[test]
+fn cylinder_poking_through_a_box_is_found_inside_both() {
+    let text = "
+BODY box RPP -1 1 -1 1 -1 1
+BODY rod RCC (0.2,0.1,-2) (0,0,4) 0.3
+BODY far SPH (5,5,5) 0.5
+REGION BLOCK = +box
+REGION ROD = +rod
+REGION BALL = +far
+";
+    let m = model(text, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert_eq!(r.overlaps.len(), 1, "{}", r.to_table());
+    let o = &r.overlaps[0];
+    assert_eq!(o.regions, ["BLOCK".to_string(), "ROD".to_string()]);
+    let p = DVec3::from_array(o.problem.point);
+    assert!(p.abs().max_element() <= 1.0 + 1e-9, "{p}");
+    assert!(
+        ((p.x - 0.2).powi(2) + (p.y - 0.1).powi(2)).sqrt() <= 0.3 + 1e-9,
+        "{p}"
+    );
+    // Along z the rod crosses the whole box.
+    assert!((o.problem.max_length - 2.0).abs() < 1e-6);
+    let v = std::f64::consts::PI * 0.09 * 2.0;
+    assert!(
+        (o.problem.volume - v).abs() < 0.03 * v,
+        "{} vs {v}",
+        o.problem.volume
+    );
+
+    // Subtracting the rod from the block removes the overlap.
+    let fixed = text.replace("REGION BLOCK = +box", "REGION BLOCK = +box -rod");
+    let r = check(
+        &model(&fixed, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+}
+
+#[test]
+fn touching_faces_are_not_overlaps() {
+    // Boxes sharing the face x = 1, a cylinder standing on the top face,
+    // and a sphere touching the side face at one point; random rays too.
+    let text = "
+BODY a RPP 0 1 0 1 0 1
+BODY b RPP 1 2 0 1 0 1
+BODY c RCC (0.5,0.5,1) (0,0,1) 0.4
+BODY s SPH (2.5,0.5,0.5) 0.5
+REGION A = +a
+REGION B = +b
+REGION C = +c
+REGION S = +s
+";
+    let m = model(text, UniverseChoice::None);
+    let r = check(
+        &m,
+        &CheckOptions {
+            random: 5000,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+    assert_eq!(r.random_rays, 5000);
+    // A fine grid whose rays fall exactly on the shared faces' lines is
+    // still clean.
+    let r = check(
+        &m,
+        &CheckOptions {
+            spacing: Some(0.05),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(r.is_clean(), "{}", r.to_table());
+}
+
+#[test]
+fn tolerance_hides_thin_overlaps_only() {
+    // The boxes overlap by 0.001 in x.
+    let text = "
+BODY a RPP 0 1.001 0 1 0 1
+BODY b RPP 1 2 0 1 0 1
+REGION A = +a
+REGION B = +b
+";
+    let m = model(text, UniverseChoice::None);
+    let loose = check(
+        &m,
+        &CheckOptions {
+            tolerance: Some(0.01),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(loose.is_clean(), "{}", loose.to_table());
+    let strict = check(
+        &m,
+        &CheckOptions {
+            tolerance: Some(1e-6),
+            spacing: Some(0.01),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(strict.overlaps.len(), 1, "{}", strict.to_table());
+    let o = &strict.overlaps[0].problem;
+    assert!(o.point[0] > 1.0 && o.point[0] < 1.001, "{:?}", o.point);
+    // The grid is coarser than the sliver: every ray along x crosses its
+    // 0.001 thickness; rays along y and z see it only if they happen to run
+    // inside it.
+    assert!(o.hits >= 100 * 100, "{}", o.hits);
+    assert!(o.max_length >= 0.001 - 1e-9 && o.max_length <= 1.0 + 1e-9);
+}
+
+#[test]
+fn pairs_are_sorted_by_severity() {
+    let text = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.9,0,0) 1
+BODY c SPH (0,1.2,0) 1
+REGION A = +a
+REGION B = +b
+REGION C = +c
+";
+    let r = check(&model(text, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    let names: Vec<_> = r.overlaps.iter().map(|o| o.regions.join("×")).collect();
+    assert_eq!(names[0], "A×C", "{}", r.to_table());
+    assert!(names.contains(&"A×B".to_string()));
+    for w in r.overlaps.windows(2) {
+        assert!(w[0].problem.total_length >= w[1].problem.total_length);
+    }
+}
+
+#[test]
+fn json_report_has_the_documented_shape() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+    for key in [
+        "unit",
+        "regions",
+        "bounds",
+        "spacing",
+        "grid_rays",
+        "random_rays",
+        "tolerance",
+        "universe",
+        "overlaps",
+        "air_overlaps",
+        "voids",
+        "outside",
+        "unseen",
+        "seconds",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    let o = &v["overlaps"][0];
+    assert_eq!(o["regions"], serde_json::json!(["A", "B"]));
+    assert_eq!(o["point"].as_array().unwrap().len(), 3);
+    for key in [
+        "total_length",
+        "max_length",
+        "hits",
+        "volume",
+        "region_indices",
+    ] {
+        assert!(o.get(key).is_some(), "missing overlaps[].{key}");
+    }
+    assert!(v["universe"].is_null());
+    assert_eq!(v["regions"], 2);
+}
+
+#[test]
+fn bad_options_are_errors_not_panics() {
+    let m = model(SPHERES, UniverseChoice::None);
+    for o in [
+        CheckOptions {
+            spacing: Some(0.0),
+            ..Default::default()
+        },
+        CheckOptions {
+            spacing: Some(1e-6),
+            ..Default::default()
+        },
+        CheckOptions {
+            tolerance: Some(-1.0),
+            ..Default::default()
+        },
+        CheckOptions {
+            random: u64::MAX,
+            ..Default::default()
+        },
+    ] {
+        assert!(check(&m, &o).is_err());
+    }
+}
+
+#[test]
+fn pictures_mark_pixels_that_see_an_overlap() {
+    let m = model(SPHERES, UniverseChoice::None);
+    // Orthographic rays down -z over x in [-1.5, 3], y = 0.
+    let ov = sv_check::overlap_pixels(&m, 90, 1, 1e-6, false, |x, _| {
+        sv_math::Ray::new(
+            DVec3::new(-1.5 + 0.05 * (x as f64 + 0.5), 0.0, 5.0),
+            -DVec3::Z,
+        )
+    });
+    for (x, hit) in ov.mask.iter().enumerate() {
+        let px = -1.5 + 0.05 * (x as f64 + 0.5);
+        let expect = px > 0.5 && px < 1.0;
+        assert_eq!(*hit, expect, "x = {px}");
+    }
+    assert_eq!(ov.pairs.len(), 1);
+    assert_eq!(ov.pairs[0].regions, ["A".to_string(), "B".to_string()]);
+    assert_eq!(ov.pairs[0].pixels, 10);
+}
+
+#[test]
+fn default_spacing_follows_the_model_shape() {
+    // A long thin rod gets as many rays as a cube would, not 200 along its
+    // length and 2 across.
+    let text = "BODY r RPP 0 100 0 1 0 1\nREGION R = +r\n";
+    let r = check(&model(text, UniverseChoice::None), &CheckOptions::default()).unwrap();
+    assert!(r.spacing < 0.1, "{}", r.spacing);
+    assert!(
+        r.grid_rays > 100_000 && r.grid_rays < 140_000,
+        "{}",
+        r.grid_rays
+    );
+}
+
+#[test]
+fn overlaps_with_air_are_listed_apart_unless_strict() {
+    let mut s = crate::scene(SPHERES);
+    s.regions[1].air = 2;
+    let (m, _) = sv_check::Model::new(&s, &UniverseChoice::None).unwrap();
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert!(r.overlaps.is_empty());
+    assert_eq!(r.air_overlaps.len(), 1);
+    assert!(r.air_overlaps[0].air);
+    assert!(r.is_clean());
+    assert!(r.to_table().contains("air"));
+    let strict = check(
+        &m,
+        &CheckOptions {
+            strict_air: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(strict.overlaps.len(), 1);
+    assert!(!strict.is_clean());
+}
+
+#[test]
+fn empty_regions_are_listed_as_unseen() {
+    let text =
+        format!("{SPHERES}BODY c RPP 5 6 5 6 5 6\nBODY d RPP 4 7 4 7 4 7\nREGION GONE = +c -d\n");
+    let r = check(
+        &model(&text, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(r.unseen, ["GONE".to_string()]);
+    assert!(r.to_table().contains("met by no ray"));
+    let clean = check(
+        &model(CLEAN_PAIR, UniverseChoice::None),
+        &CheckOptions::default(),
+    )
+    .unwrap();
+    assert!(clean.unseen.is_empty());
+}
+
+const CLEAN_PAIR: &str =
+    "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION A = +a\nREGION B = +b\n";
+
+#[test]
+fn a_box_looks_closely_at_part_of_a_model() {
+    // Two thin plates overlap by 0.2 inside a world 2000 across: the
+    // default grid (spacing 10) runs past them; a box around them finds it.
+    let text = "
+BODY w RPP -1000 1000 -1000 1000 -1000 1000
+BODY p RPP 0 0.5 0 3 0 3
+BODY q RPP 0.3 0.8 1 4 1 4
+REGION WORLD = +w -p -q
+REGION P = +p
+REGION Q = +q
+";
+    let m = model(text, UniverseChoice::Named("WORLD".into()));
+    let coarse = check(&m, &CheckOptions::default()).unwrap();
+    assert!(coarse.overlaps.is_empty(), "{}", coarse.to_table());
+    let close = check(
+        &m,
+        &CheckOptions {
+            bounds: Some(sv_math::Aabb::new(DVec3::splat(-1.0), DVec3::splat(5.0))),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(close.overlaps.len(), 1, "{}", close.to_table());
+    assert_eq!(
+        close.overlaps[0].regions,
+        ["P".to_string(), "Q".to_string()]
+    );
+    let p = DVec3::from_array(close.overlaps[0].problem.point);
+    assert!(p.x > 0.3 && p.x < 0.5 && p.y > 1.0 && p.y < 3.0, "{p}");
+    assert!(close.voids.is_empty(), "{}", close.to_table());
+}
+
+#[test]
+fn a_model_without_finite_regions_needs_a_box() {
+    let text = "BODY a XCC 0 0 1\nBODY b YCC 0 0 1\nREGION A = +a\nREGION B = +b\n";
+    let m = model(text, UniverseChoice::None);
+    assert!(matches!(
+        check(&m, &CheckOptions::default()),
+        Err(sv_check::CheckError::Unbounded)
+    ));
+    let r = check(
+        &m,
+        &CheckOptions {
+            bounds: Some(sv_math::Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // The two infinite cylinders cross at the origin (a Steinmetz solid of
+    // volume 16/3).
+    assert_eq!(r.overlaps.len(), 1);
+    assert!(
+        (r.overlaps[0].problem.volume - 16.0 / 3.0).abs() < 0.05,
+        "{}",
+        r.overlaps[0].problem.volume
+    );
+}
+
+#[test]
+fn pictures_skip_air_overlaps_unless_strict() {
+    let mut s = crate::scene(SPHERES);
+    s.regions[0].air = 1;
+    let (m, _) = sv_check::Model::new(&s, &UniverseChoice::None).unwrap();
+    let ray = |x: u32, _| {
+        sv_math::Ray::new(
+            DVec3::new(-1.5 + 0.05 * (x as f64 + 0.5), 0.0, 5.0),
+            -DVec3::Z,
+        )
+    };
+    let lax = sv_check::overlap_pixels(&m, 90, 1, 1e-6, false, ray);
+    assert!(lax.mask.iter().all(|m| !m) && lax.pairs.is_empty());
+    let strict = sv_check::overlap_pixels(&m, 90, 1, 1e-6, true, ray);
+    assert_eq!(strict.mask.iter().filter(|m| **m).count(), 10);
+}
+
+#[test]
+fn reports_do_not_depend_on_the_number_of_threads() {
+    let text = "
+BODY a SPH (0,0,0) 1
+BODY b SPH (1.5,0,0) 1
+BODY c RCC (0,0,-2) (0,0,4) 0.3
+REGION A = +a
+REGION B = +b
+REGION C = +c
+";
+    let m = model(text, UniverseChoice::None);
+    let opts = CheckOptions {
+        random: 3000,
+        ..Default::default()
+    };
+    let run = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        let mut r = pool.install(|| check(&m, &opts)).unwrap();
+        r.seconds = 0.0;
+        r
+    };
+    let one = run(1);
+    assert_eq!(one.overlaps.len(), 2);
+    assert_eq!(one, run(3));
+}

@@ -54,7 +54,7 @@ impl Rpp {
 
     pub(crate) fn normal(&self, face: u32) -> DVec3 {
         let mut n = DVec3::ZERO;
-        n[(face / 2) as usize] = if face % 2 == 0 { -1.0 } else { 1.0 };
+        n[(face / 2) as usize] = if face.is_multiple_of(2) { -1.0 } else { 1.0 };
         n
     }
 

@@ -35,11 +35,11 @@ BODY band     RPP  -1.6 0.3  -2 2  1.3 2.7                              # door a
 BODY below21  HAF  (0, 0, 1) 2.1                                        # z <= 2.1
 BODY below27  HAF  (0, 0, 1) 2.7                                        # z <= 2.7
 
-REGION fuselage    = +fus -belly -canopyb -band      COLOR 0.55 0.60 0.45 K 0.85
-REGION door        = +fus +band +below21             COLOR 0.45 0.50 0.38 K 0.85
-REGION window      = +fus +band -below21             COLOR 0.25 0.30 0.40 K 0.85
+REGION fuselage    = +fus -belly -canopyb -band -cowl COLOR 0.55 0.60 0.45 K 0.85
+REGION door        = +fus +band +below21 -canopyb    COLOR 0.45 0.50 0.38 K 0.85
+REGION window      = +fus +band -below21 -canopyb    COLOR 0.25 0.30 0.40 K 0.85
 REGION canopy      = +canopyb -belly                 COLOR 0.35 0.45 0.60 K 0.85
-REGION tailboom    = +boom -fus -cowl                COLOR 0.55 0.60 0.45 K 0.85
+REGION tailboom    = +boom -fus -cowl -stab          COLOR 0.55 0.60 0.45 K 0.85
 REGION fin         = +finb -boom                     COLOR 0.55 0.60 0.45 K 0.85
 REGION stabilizer  = +stab -boom                     COLOR 0.55 0.60 0.45 K 0.85
 REGION mast        = +mastb -fus -cowl               COLOR 0.6 0.6 0.6 K 0.85
@@ -57,7 +57,7 @@ REGION strut_rl    = +srl -skidl -fus                COLOR 0.35 0.35 0.35 K 0.85
 REGION strut_rr    = +srr -skidr -fus                COLOR 0.35 0.35 0.35 K 0.85
 REGION cowling     = +cowl -fus                      COLOR 0.50 0.55 0.42 K 0.85
 REGION exhaust     = +exo -exi -cowl                 COLOR 0.25 0.22 0.20 K 0.85
-REGION fairing     = +cowl +fus -below27             COLOR 0.50 0.55 0.42 K 0.85
+REGION fairing     = +cowl +fus -below27 -canopyb    COLOR 0.50 0.55 0.42 K 0.85
 REGION stab_root   = +boom +stab                     COLOR 0.55 0.60 0.45 K 0.85
 
 # POV-Ray's camera: location <9,6.5,-13> look_at <-1.6,2,0>, horizontal

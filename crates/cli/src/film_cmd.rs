@@ -20,7 +20,7 @@ fn code(v: f32, srgb: bool) -> u8 {
     } else {
         1.055 * v.powf(1.0 / 2.4) - 0.055
     };
-    (v * 255.0).round() as u8
+    (v * 255.0 + 0.5) as u8 // round half up: v is in 0..=1
 }
 
 pub fn film(a: FilmArgs) -> Result<ExitCode, CliError> {

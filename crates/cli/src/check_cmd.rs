@@ -131,18 +131,6 @@ pub struct VolumeArgs {
     pub input: InputArgs,
 }
 
-fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
-    let mut b = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = threads {
-        if n == 0 {
-            return Err(input("--threads must be at least 1"));
-        }
-        b = b.num_threads(n);
-    }
-    b.build()
-        .map_err(|e| CliError::Runtime(format!("error: cannot start threads: {e}")))
-}
-
 /// FLUKA has no rule that air gives way (its `VACUUM` regions get air code
 /// 1 from the reader): for FLUKA inputs every overlap counts.
 fn is_fluka(path: &Path) -> bool {
@@ -228,7 +216,7 @@ pub fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
         strict_air: a.strict_air || is_fluka(&a.scene),
         ..Default::default()
     };
-    let report = pool(a.check.threads)?
+    let report = crate::commands::thread_pool(a.check.threads)?
         .install(|| sv_check::check(&m, &opts))
         .map_err(check_err)?;
     if a.json {
@@ -350,7 +338,7 @@ pub fn slice(a: SliceArgs) -> Result<ExitCode, CliError> {
         tolerance: a.check.tolerance,
         strict_air: a.strict_air || is_fluka(&a.scene),
     };
-    let s = pool(a.check.threads)?
+    let s = crate::commands::thread_pool(a.check.threads)?
         .install(|| sv_check::slice(&m, &opts))
         .map_err(check_err)?;
     let legend = serde_json::json!({
@@ -440,7 +428,7 @@ pub fn volume(a: VolumeArgs) -> Result<ExitCode, CliError> {
         seed: a.seed,
         ..Default::default()
     };
-    let r = pool(a.threads)?
+    let r = crate::commands::thread_pool(a.threads)?
         .install(|| sv_check::volumes(&m, &opts))
         .map_err(check_err)?;
     if a.json {

@@ -313,6 +313,13 @@ impl Prepared {
     /// (unbounded zones first). Gives up and returns false as soon as there
     /// are more than `max`: the rays had better walk the hierarchy then.
     pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
+        self.zones_meeting(max, out, |b| f.may_meet(b))
+    }
+
+    /// The opaque zones whose bounds pass `meets` (unbounded zones always),
+    /// walking the hierarchy through the nodes that pass it; false (and
+    /// given up) past `max`.
+    fn zones_meeting(&self, max: usize, out: &mut Vec<u32>, meets: impl Fn(&Aabb) -> bool) -> bool {
         out.clear();
         out.extend_from_slice(&self.unbounded_opaque);
         let nodes = &self.bvh_opaque.nodes;
@@ -321,7 +328,7 @@ impl Prepared {
         while sp > 0 {
             sp -= 1;
             let node = nodes[stack[sp] as usize];
-            if !f.may_meet(&node.bounds) {
+            if !meets(&node.bounds) {
                 continue;
             }
             if node.count > 0 {
@@ -330,7 +337,7 @@ impl Prepared {
                 out.extend(
                     items
                         .iter()
-                        .filter(|&&zi| f.may_meet(&self.zones[zi as usize].bounds)),
+                        .filter(|&&zi| meets(&self.zones[zi as usize].bounds)),
                 );
             } else if sp + 2 <= stack.len() {
                 stack[sp] = node.first + 1;
@@ -426,53 +433,28 @@ impl Prepared {
         max: usize,
         out: &mut Vec<u32>,
     ) -> bool {
-        out.clear();
-        out.extend_from_slice(&self.unbounded_opaque);
         let h = from.size() * 0.5 + DVec3::splat(self.tol);
         let c = from.center();
-        let meets = |b: &Aabb| match dir {
-            Some(d) => hits(
-                &Aabb::new(b.min - h, b.max + h),
-                &Ray {
-                    origin: c,
-                    dir: d,
-                    inv_dir: d.recip(),
-                },
-                0.0,
-                f64::INFINITY,
-            )
-            .is_some(),
-            None => !b.intersection(&from.padded(self.tol)).is_empty(),
-        };
-        let nodes = &self.bvh_opaque.nodes;
-        let mut stack = [0u32; 64];
-        let mut sp = usize::from(!nodes.is_empty());
-        while sp > 0 {
-            sp -= 1;
-            let node = nodes[stack[sp] as usize];
-            if !meets(&node.bounds) {
-                continue;
+        let near = from.padded(self.tol);
+        self.zones_meeting(max, out, |b| match dir {
+            // The swept box meets `b` exactly when the ray from its centre
+            // meets `b` grown by its half-size.
+            Some(d) => {
+                let grown = Aabb::new(b.min - h, b.max + h);
+                hits(
+                    &grown,
+                    &Ray {
+                        origin: c,
+                        dir: d,
+                        inv_dir: d.recip(),
+                    },
+                    0.0,
+                    f64::INFINITY,
+                )
+                .is_some()
             }
-            if node.count > 0 {
-                let items =
-                    &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
-                out.extend(
-                    items
-                        .iter()
-                        .filter(|&&zi| meets(&self.zones[zi as usize].bounds)),
-                );
-            } else if sp + 2 <= stack.len() {
-                stack[sp] = node.first + 1;
-                stack[sp + 1] = node.first;
-                sp += 2;
-            } else {
-                return false;
-            }
-            if out.len() > max {
-                return false;
-            }
-        }
-        out.len() <= max
+            None => !b.intersection(&near).is_empty(),
+        })
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,

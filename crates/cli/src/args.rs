@@ -23,6 +23,8 @@ pub enum Command {
     Bodies,
     /// Measure primary rays per second per core.
     Bench(BenchArgs),
+    /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
+    Export(ExportArgs),
 }
 
 #[derive(Args, Debug, Clone)]
@@ -148,4 +150,29 @@ pub struct BenchArgs {
     /// Print JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Output formats of `export`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// POV-Ray 3.7 scene.
+    Pov,
+    /// SynthaVision scene language.
+    Sv,
+}
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// Scene, deck or FLUKA input.
+    pub scene: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub input: InputArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
 }

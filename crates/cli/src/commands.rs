@@ -20,6 +20,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Shoot(a) => shoot(a),
         Command::Bodies => bodies(),
         Command::Bench(a) => bench(a),
+        Command::Export(a) => crate::export_cmd::export(a),
     }
 }
 

@@ -9,6 +9,7 @@ pub mod comgeom;
 pub mod diag;
 pub mod fluka;
 pub mod native;
+pub mod pov;
 
 pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile};
 use std::path::{Path, PathBuf};

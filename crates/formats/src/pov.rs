@@ -146,7 +146,7 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
                     one_line(&l.name)
                 );
             }
-            LightKind::Point { pos, decay } if decay == 0.0 => {
+            LightKind::Point { pos, decay: 0.0 } => {
                 let _ = writeln!(
                     s,
                     "light_source {{ {} color {}{shadow} }}  // {}",

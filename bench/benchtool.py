@@ -31,7 +31,8 @@ def find(pattern, text, default="0"):
 
 
 def wall_seconds(text):
-    s = find(r"Elapsed \(wall clock\) time[^:]*: ([\d:.]+)", text)
+    # "Elapsed (wall clock) time (h:mm:ss or m:ss): 0:01.23"
+    s = find(r"Elapsed \(wall clock\) time.*?: (\d[\d:.]*)", text)
     total = 0.0
     for part in s.split(":"):
         total = total * 60 + float(part)
@@ -219,18 +220,19 @@ def summary(argv):
     sc = load_csv(os.path.join(res, "scaling.csv"))
     if sc:
         out.append("\n### Scaling: union of N random spheres, 960×720, one thread\n")
-        out.append("| spheres | ours ns/ray, shadows off | ours ns/ray, shadows on | POV-Ray ns/ray, shadows off (trace) | ours ×(100) off | POV-Ray ×(100) |")
-        out.append("|---|---|---|---|---|---|")
+        out.append("| spheres | pixels on geometry | ours ns/ray, shadows off | ours ns/ray, shadows on | POV-Ray ns/ray, shadows off (trace) | ours ×(100), off | ours ×(100), on | POV-Ray ×(100) |")
+        out.append("|---|---|---|---|---|---|---|---|")
         first = {}
         for r in sc:
             n = r["bodies"]
             vals = [r.get("ours_ns_off"), r.get("ours_ns_on"), r.get("pov_ns_off")]
             vals = [float(v) if v else None for v in vals]
             if not first:
-                first = {"o": vals[0], "p": vals[2]}
-            rel_o = vals[0] / first["o"] if vals[0] and first["o"] else None
-            rel_p = vals[2] / first["p"] if vals[2] and first["p"] else None
-            out.append(f"| {n} | {fmt(vals[0], 1)} | {fmt(vals[1], 1)} | {fmt(vals[2], 1)} | {fmt(rel_o)} | {fmt(rel_p)} |")
+                first = vals
+            rel = [v / f if v and f else None for v, f in zip(vals, first)]
+            cov = f"{float(r['coverage']):.1%}" if r.get("coverage") else "–"
+            out.append(f"| {n} | {cov} | {fmt(vals[0], 1)} | {fmt(vals[1], 1)} | {fmt(vals[2], 1)} | "
+                       f"{fmt(rel[0])}× | {fmt(rel[1])}× | {fmt(rel[2])}× |")
 
     mem = load_csv(os.path.join(res, "memory.csv"))
     if mem:

@@ -15,6 +15,8 @@
 #           M  reading and preparing: time and peak memory of `synthavision info`
 #   SCENES  scenes for parts C, A and B (default "figure1 helicopter many big_union")
 #   SIZES   sphere counts for part S (default "100 1000 10000 100000")
+#   UPDATE_DOC=1  also put the summary into BENCHMARKS.md (between the
+#           "compare.sh begin/end" markers) and the plot into docs/scaling.png
 #
 # Needs povray (Debian/Ubuntu: apt-get install povray), python3, GNU time
 # (/usr/bin/time) and cargo. Installs nothing. Results go to
@@ -145,15 +147,16 @@ res = sys.argv[1]
 ours = list(csv.DictReader(open(os.path.join(res, "ours_S.csv"))))
 pov = list(csv.DictReader(open(os.path.join(res, "pov_S.csv"))))
 out = open(os.path.join(res, "scaling.csv"), "w")
-out.write("bodies,ours_ns_off,ours_ns_on,pov_ns_off\n")
+out.write("bodies,coverage,ours_ns_off,ours_ns_on,pov_ns_off\n")
 for n in dict.fromkeys(r["scene"] for r in ours):
-    ns = {}
+    ns, cov = {}, ""
     for r in ours:
         if r["scene"] == n:
             ns[r["shadows"]] = float(r["median_s"]) * 1e9 / (int(r["width"]) * int(r["height"]))
+            cov = r["coverage"]
     p = [r for r in pov if r["scene"] == n]
     pn = statistics.median(float(r["trace_s"]) for r in p) * 1e9 / float(p[0]["pixels"]) if p else ""
-    out.write(f"{n.split('_')[-1]},{ns.get('0', '')},{ns.get('1', '')},{pn}\n")
+    out.write(f"{n.split('_')[-1]},{cov},{ns.get('0', '')},{ns.get('1', '')},{pn}\n")
 PY
     ;;
   M)
@@ -176,5 +179,19 @@ note_load end
 $TOOL summary "$RES" /work/shared/bench/povray > "$RES/summary.md"
 [ -f "$RES/scaling.csv" ] && python3 "$ROOT/bench/plot_scaling.py" "$RES/scaling.csv" "$RES/scaling.png" >&2 || true
 cat "$RES/summary.md"
+if [ "${UPDATE_DOC:-0}" = 1 ]; then
+  python3 - "$ROOT/BENCHMARKS.md" "$RES/summary.md" "${RES#$ROOT/}" <<'PY'
+import sys
+doc, summary, res = sys.argv[1:]
+text = open(doc).read()
+begin, end = "<!-- compare.sh begin -->", "<!-- compare.sh end -->"
+i, j = text.index(begin) + len(begin), text.index(end)
+body = open(summary).read().rstrip()
+text = text[:i] + f"\n(Written by bench/compare.sh from {res}.)\n\n" + body + "\n" + text[j:]
+open(doc, "w").write(text)
+PY
+  [ -f "$RES/scaling.png" ] && mkdir -p "$ROOT/docs" && cp "$RES/scaling.png" "$ROOT/docs/scaling.png"
+  echo "updated BENCHMARKS.md and docs/scaling.png" >&2
+fi
 echo >&2
 echo "results: $RES" >&2

@@ -33,6 +33,8 @@ pub enum Command {
     Slice(crate::check_cmd::SliceArgs),
     /// Volume, centroid and mass of every region by ray sampling.
     Volume(crate::check_cmd::VolumeArgs),
+    /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
+    Export(ExportArgs),
 }
 
 #[derive(Args, Debug, Clone)]
@@ -205,4 +207,29 @@ pub struct ConvertArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub input_args: InputArgs,
+}
+
+/// Output formats of `export`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// POV-Ray 3.7 scene.
+    Pov,
+    /// SynthaVision scene language.
+    Sv,
+}
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// Scene, deck or FLUKA input.
+    pub scene: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub input: InputArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
 }

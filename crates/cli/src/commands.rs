@@ -25,6 +25,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Check(a) => crate::check_cmd::check(a),
         Command::Slice(a) => crate::check_cmd::slice(a),
         Command::Volume(a) => crate::check_cmd::volume(a),
+        Command::Export(a) => crate::export_cmd::export(a),
     }
 }
 

@@ -7,6 +7,7 @@
 mod args;
 mod check_cmd;
 mod commands;
+mod export_cmd;
 mod film_cmd;
 mod load;
 

@@ -1,5 +1,6 @@
 //! Readers and writers: the native scene language (`.sv`), COMGEOM/GIFT
-//! fixed-column decks (`.cg`, v1/v4/v5) and FLUKA geometry (`.inp`).
+//! fixed-column decks (`.cg`, v1/v4/v5) and FLUKA geometry (`.inp`); and a
+//! POV-Ray scene writer ([`pov`]).
 //!
 //! Every reader turns text into a [`Scene`] or into [`Diagnostics`] that
 //! name file, line and column; none of them panics on any input.
@@ -9,6 +10,7 @@ pub mod comgeom;
 pub mod diag;
 pub mod fluka;
 pub mod native;
+pub mod pov;
 pub mod script;
 
 pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile};

@@ -494,25 +494,7 @@ fn quadric(q: &[f64]) -> String {
 /// ARS: the triangles the tracer builds, as a closed `mesh` with an inside
 /// vector so that it can take part in CSG.
 fn ars_mesh(b: &Body) -> Result<String, String> {
-    let (nc, np) = (b.params[0] as usize, b.params[1] as usize);
-    let curve = |i: usize, j: usize| b.vec3(2 + 3 * (i * np + j % np));
-    let mut tris = Vec::new();
-    for i in 0..nc - 1 {
-        for j in 0..np {
-            let (a, bq, c, d) = (
-                curve(i, j),
-                curve(i, j + 1),
-                curve(i + 1, j + 1),
-                curve(i + 1, j),
-            );
-            tris.push([a, bq, c]);
-            tris.push([a, c, d]);
-        }
-    }
-    for j in 1..np - 1 {
-        tris.push([curve(0, 0), curve(0, j + 1), curve(0, j)]);
-        tris.push([curve(nc - 1, 0), curve(nc - 1, j), curve(nc - 1, j + 1)]);
-    }
+    let tris = sv_geom::ars_triangles(b);
     let scale = Aabb::from_points(tris.iter().flatten().copied()).diagonal();
     let mut t = String::from("mesh {");
     let mut n = 0;

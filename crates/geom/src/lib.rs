@@ -27,6 +27,6 @@ pub mod table;
 mod trace;
 
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
-pub use prepare::{PrepareError, PrepareOptions, Prepared, Warning};
+pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
 pub use trace::{Crossing, Frustum, Hit, Partition, Scratch, Step};

@@ -309,6 +309,34 @@ fn finite(b: &Body) -> Result<(), String> {
     Ok(())
 }
 
+/// The triangles of an ARS: each pair of neighbouring curves joined by two
+/// triangles per point (curves are closed), and the first and last curves
+/// closed by fans (which vanish where a curve is a single point). The
+/// winding is consistent, so the mesh orients itself (see [`Mesh::new`]).
+/// `b` must be a well-formed ARS (checked by `prepare`).
+pub fn ars_triangles(b: &Body) -> Vec<[DVec3; 3]> {
+    let (nc, np) = (b.params[0] as usize, b.params[1] as usize);
+    let curve = |i: usize, j: usize| b.vec3(2 + 3 * (i * np + j % np));
+    let mut tris = Vec::with_capacity(2 * nc * np + 2 * np);
+    for i in 0..nc.saturating_sub(1) {
+        for j in 0..np {
+            let (a, bq, c, d) = (
+                curve(i, j),
+                curve(i, j + 1),
+                curve(i + 1, j + 1),
+                curve(i + 1, j),
+            );
+            tris.push([a, bq, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    for j in 1..np.saturating_sub(1) {
+        tris.push([curve(0, 0), curve(0, j + 1), curve(0, j)]);
+        tris.push([curve(nc - 1, 0), curve(nc - 1, j), curve(nc - 1, j + 1)]);
+    }
+    tris
+}
+
 /// ARB4…ARB7 as the eight points of an ARB8 (BRL-CAD's conventions).
 pub fn arb_points(b: &Body) -> Vec<DVec3> {
     let n = b.params.len() / 3;
@@ -680,26 +708,7 @@ fn build(b: &Body, warnings: &mut Vec<Warning>) -> Result<(Shape, Aabb), String>
             return Ok((Shape::Quadric(Quadric::new(m, bv, c)), Aabb::INFINITE));
         }
         Ars => {
-            let (nc, np) = (s(0) as usize, s(1) as usize);
-            let curve = |i: usize, j: usize| v(2 + 3 * (i * np + j % np));
-            let mut tris = Vec::with_capacity(2 * nc * np + 2 * np);
-            for i in 0..nc - 1 {
-                for j in 0..np {
-                    let (a, bq, c, d) = (
-                        curve(i, j),
-                        curve(i, j + 1),
-                        curve(i + 1, j + 1),
-                        curve(i + 1, j),
-                    );
-                    tris.push([a, bq, c]);
-                    tris.push([a, c, d]);
-                }
-            }
-            // Close the ends with fans (they vanish where a curve is a point).
-            for j in 1..np - 1 {
-                tris.push([curve(0, 0), curve(0, j + 1), curve(0, j)]);
-                tris.push([curve(nc - 1, 0), curve(nc - 1, j), curve(nc - 1, j + 1)]);
-            }
+            let tris = ars_triangles(b);
             let m = Mesh::new(&tris);
             if m.triangle_count() < 4 {
                 return Err("the curves span no surface (degenerate ARS)".into());

@@ -200,19 +200,22 @@ impl<'t> Line<'t> {
     }
 }
 
-/// Marker kept in `Scene::notes` while reading until UNITS is given; the
-/// first included model then decides the units.
-const UNITS_UNSET: &str = "\u{0}units-unset";
-
 /// Read a scene file.
 pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics> {
     let mut scene = Scene::default();
-    scene.notes.push(UNITS_UNSET.into());
     let mut diags = Diagnostics::default();
     let mut warnings = Vec::new();
     let mut stack = vec![PathBuf::from(&src.name)];
-    read_into(src, opts, &mut scene, &mut diags, &mut warnings, &mut stack);
-    scene.notes.retain(|n| n != UNITS_UNSET);
+    let mut units_set = false;
+    read_into(
+        src,
+        opts,
+        &mut scene,
+        &mut diags,
+        &mut warnings,
+        &mut stack,
+        &mut units_set,
+    );
     if diags.has_errors() {
         return Err(diags);
     }
@@ -249,6 +252,7 @@ fn read_into(
     diags: &mut Diagnostics,
     warnings: &mut Vec<Diagnostic>,
     stack: &mut Vec<PathBuf>,
+    units_set: &mut bool,
 ) {
     let mut names = Names::default();
     for (i, text) in src.text.lines().enumerate() {
@@ -286,7 +290,7 @@ fn read_into(
                             );
                         }
                         scene.units = u;
-                        scene.notes.retain(|n| n != UNITS_UNSET);
+                        *units_set = true;
                         Ok(())
                     }
                     None => Err(cx
@@ -297,7 +301,7 @@ fn read_into(
             "REGION" => region(&mut ln, &mut cx, scene, &names),
             "INCLUDE" => match ln.word(&mut cx, "a file name in quotes") {
                 Ok(t) => {
-                    include(t, &mut cx, opts, scene, warnings, stack);
+                    include(t, &mut cx, opts, scene, warnings, stack, units_set);
                     Ok(())
                 }
                 Err(e) => Err(e),
@@ -747,6 +751,7 @@ fn include(
     scene: &mut Scene,
     warnings: &mut Vec<Diagnostic>,
     stack: &mut Vec<PathBuf>,
+    units_set: &mut bool,
 ) {
     let base = Path::new(&cx.src.name).parent().unwrap_or(Path::new(""));
     let path = base.join(&t.text);
@@ -769,14 +774,25 @@ fn include(
     let format = crate::Format::detect(&path, &src.text);
     let loaded = if format == crate::Format::Native {
         // An included scene is read on its own, then merged (and scaled
-        // into this scene's units) like any deck.
+        // into this scene's units) like any deck; without UNITS of its own
+        // it is in the including scene's units.
         let mut inner = Scene::default();
-        inner.notes.push(UNITS_UNSET.into());
+        let mut inner_units_set = false;
         let before = cx.diags.errors().count();
         stack.push(path);
-        read_into(&src, opts, &mut inner, cx.diags, warnings, stack);
+        read_into(
+            &src,
+            opts,
+            &mut inner,
+            cx.diags,
+            warnings,
+            stack,
+            &mut inner_units_set,
+        );
         stack.pop();
-        inner.notes.retain(|n| n != UNITS_UNSET);
+        if !inner_units_set {
+            inner.units = scene.units;
+        }
         if cx.diags.errors().count() > before {
             return;
         }
@@ -790,6 +806,12 @@ fn include(
     match loaded {
         Ok(loaded) => {
             warnings.extend(loaded.warnings);
+            // A scene that has not said its units takes those of the first
+            // model it includes.
+            if !*units_set && scene.geometry.bodies.is_empty() {
+                scene.units = loaded.scene.units;
+                *units_set = true;
+            }
             let tag = Path::new(&t.text)
                 .file_stem()
                 .map_or(t.text.clone(), |s| s.to_string_lossy().into_owned());
@@ -836,9 +858,8 @@ pub enum Clash {
 /// `tag/name`; regions as `regions` says), its regions (body references shifted), its lights whose
 /// names are new, and its notes; camera, picture size and title are taken
 /// only where `scene` has none. `other` is scaled from its units into the
-/// scene's; a scene still without units takes them from the first model
-/// merged into it. A region name in both scenes is an error, and `scene` is
-/// then left unchanged.
+/// scene's. A region name in both scenes is an error, and `scene` is then
+/// left unchanged.
 pub fn merge(
     scene: &mut Scene,
     mut other: Scene,
@@ -854,11 +875,7 @@ pub fn merge(
         }
     }
     let offset = scene.geometry.bodies.len();
-    let unset = scene.notes.iter().any(|n| n == UNITS_UNSET);
-    if unset && offset == 0 {
-        scene.units = other.units;
-        scene.notes.retain(|n| n != UNITS_UNSET);
-    } else if other.units != scene.units {
+    if other.units != scene.units {
         let f = other.units.mm() / scene.units.mm();
         let xf = sv_math::DAffine3::from_scale(DVec3::splat(f));
         for b in &mut other.geometry.bodies {

@@ -185,3 +185,47 @@ fn two_decks_in_different_units_share_one_scene() {
         "clashing region names are tagged"
     );
 }
+
+#[test]
+fn units_come_from_the_scene_or_its_first_model() {
+    let dir = tempfile::tempdir().unwrap();
+    // A scene file without UNITS of its own is in its includer's units.
+    std::fs::write(
+        dir.path().join("part.sv"),
+        "BODY s SPH 0 0 0 2\nREGION r = +s\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("metres.sv"),
+        "UNITS m\nINCLUDE \"part.sv\"\n",
+    )
+    .unwrap();
+    let s = sv_formats::load_file(&dir.path().join("metres.sv"), &LoadOptions::default())
+        .unwrap()
+        .scene;
+    assert_eq!(s.units, sv_scene::Units::Metre);
+    assert_eq!(
+        s.geometry.bodies[0].params[3], 2.0,
+        "not scaled: the part is in metres too"
+    );
+    // A scene that never says its units takes the first model's.
+    std::fs::write(
+        dir.path().join("mm.sv"),
+        "UNITS mm\nBODY t SPH 0 0 0 5\nREGION q = +t\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("wrap.sv"),
+        "INCLUDE \"mm.sv\"\nINCLUDE \"part.sv\"\n",
+    )
+    .unwrap();
+    let s = sv_formats::load_file(&dir.path().join("wrap.sv"), &LoadOptions::default())
+        .unwrap()
+        .scene;
+    assert_eq!(s.units, sv_scene::Units::Millimetre);
+    assert_eq!(s.geometry.bodies[0].params[3], 5.0);
+    assert_eq!(
+        s.geometry.bodies[1].params[3], 2.0,
+        "part.sv has no units: it takes the scene's (mm)"
+    );
+}

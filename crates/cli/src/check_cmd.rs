@@ -2,7 +2,7 @@
 //! overlap painting of `render --overlaps`.
 
 use crate::args::InputArgs;
-use crate::load::{input, load, parse_vec3, CliError};
+use crate::load::{input, load, parse_size, parse_vec3, CliError};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -265,21 +265,6 @@ fn parse_plane(a: &SliceArgs) -> Result<Plane, CliError> {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
-    let bad = || input(format!("--size: expected WxH such as 800x600, found `{s}`"));
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (
-        w.trim().parse().map_err(|_| bad())?,
-        h.trim().parse().map_err(|_| bad())?,
-    );
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(input(format!(
-            "--size: {w}x{h} is out of range (1 to 16384 each way)"
-        )));
-    }
-    Ok((w, h))
-}
-
 fn parse_extent(s: &str) -> Result<(f64, f64), CliError> {
     let bad = || {
         input(format!(
@@ -311,7 +296,11 @@ fn sidecar(out: &Path, suffix: &str) -> PathBuf {
 
 pub fn slice(a: SliceArgs) -> Result<ExitCode, CliError> {
     let plane = parse_plane(&a)?;
-    let size = a.size.as_deref().map(parse_size).transpose()?;
+    let size = a
+        .size
+        .as_deref()
+        .map(|s| parse_size(s, 16384))
+        .transpose()?;
     let extent = a.extent.as_deref().map(parse_extent).transpose()?;
     let out = a.output.clone().unwrap_or_else(|| {
         let stem = a

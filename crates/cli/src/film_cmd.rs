@@ -47,14 +47,7 @@ pub fn film(a: FilmArgs) -> Result<ExitCode, CliError> {
     }
     let total = film.timeline.frame_count();
     let (w, h) = match &a.size {
-        Some(s) => {
-            let bad = || input(format!("--size: expected WxH such as 960x720, found `{s}`"));
-            let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-            (
-                w.parse::<u32>().map_err(|_| bad())?,
-                h.parse::<u32>().map_err(|_| bad())?,
-            )
-        }
+        Some(s) => crate::load::parse_size(s, 65536)?,
         None => film
             .timeline
             .size()

@@ -143,7 +143,8 @@ pub fn load(path: Option<&Path>, a: &InputArgs) -> Result<Scene, CliError> {
     Ok(scene)
 }
 
-fn vec3(s: &str, what: &str) -> Result<DVec3, CliError> {
+/// Three comma-separated numbers, for the option named `what`.
+pub fn parse_vec3(s: &str, what: &str) -> Result<DVec3, CliError> {
     let v: Vec<f64> = s
         .split(',')
         .map(|x| x.trim().parse::<f64>())
@@ -157,27 +158,28 @@ fn vec3(s: &str, what: &str) -> Result<DVec3, CliError> {
     Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
-pub fn parse_vec3(s: &str, what: &str) -> Result<DVec3, CliError> {
-    vec3(s, what)
+/// A raster size `WxH` given to `--size`, each side from 1 to `max`.
+pub fn parse_size(s: &str, max: u32) -> Result<(u32, u32), CliError> {
+    let bad = || input(format!("--size: expected WxH such as 960x720, found `{s}`"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if w == 0 || h == 0 || w > max || h > max {
+        return Err(input(format!(
+            "--size: {w}x{h} is out of range (1 to {max} each way)"
+        )));
+    }
+    Ok((w, h))
 }
 
 /// Raster size from `--size`, the scene, or 960×720.
 pub fn size(view: &ViewArgs, scene: &Scene) -> Result<(u32, u32), CliError> {
-    if let Some(s) = &view.size {
-        let bad = || input(format!("--size: expected WxH such as 960x720, found `{s}`"));
-        let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-        let (w, h): (u32, u32) = (
-            w.trim().parse().map_err(|_| bad())?,
-            h.trim().parse().map_err(|_| bad())?,
-        );
-        if w == 0 || h == 0 || w > 65536 || h > 65536 {
-            return Err(input(format!(
-                "--size: {w}x{h} is out of range (1 to 65536 each way)"
-            )));
-        }
-        return Ok((w, h));
+    match &view.size {
+        Some(s) => parse_size(s, 65536),
+        None => Ok(scene.size.unwrap_or((960, 720))),
     }
-    Ok(scene.size.unwrap_or((960, 720)))
 }
 
 /// Prepare the renderer and apply the view options.
@@ -203,7 +205,7 @@ pub fn renderer(scene: &Scene, view: &ViewArgs, w: u32, h: u32) -> Result<Render
         };
         match (&view.eye, &view.at) {
             (Some(e), Some(a)) => {
-                let (e, a) = (vec3(e, "--eye")?, vec3(a, "--at")?);
+                let (e, a) = (parse_vec3(e, "--eye")?, parse_vec3(a, "--at")?);
                 if e == a {
                     return Err(input("--eye and --at are the same point"));
                 }

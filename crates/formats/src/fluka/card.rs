@@ -109,12 +109,18 @@ fn free_fields(text: &str) -> Vec<Option<Field>> {
 
 /// The blank-separated words of a line with their 1-based character columns.
 pub(crate) fn words(text: &str) -> Vec<(usize, &str)> {
+    split_words(text, char::is_whitespace)
+}
+
+/// The words of a line between separators, with their 1-based character
+/// columns.
+pub(crate) fn split_words(text: &str, sep: impl Fn(char) -> bool) -> Vec<(usize, &str)> {
     let mut out = Vec::new();
     let mut start: Option<(usize, usize)> = None; // (byte, col)
     let mut col = 0;
     for (b, c) in text.char_indices() {
         col += 1;
-        if c.is_whitespace() {
+        if sep(c) {
             if let Some((sb, sc)) = start.take() {
                 out.push((sc, &text[sb..b]));
             }

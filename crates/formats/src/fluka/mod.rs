@@ -276,23 +276,7 @@ fn clean(text: &str) -> &str {
 
 /// Words separated by blanks or commas, with their 1-based columns.
 fn tokens(text: &str) -> Vec<(usize, &str)> {
-    let mut out = Vec::new();
-    let mut start: Option<(usize, usize)> = None;
-    let mut col = 0;
-    for (b, c) in text.char_indices() {
-        col += 1;
-        if c.is_whitespace() || c == ',' {
-            if let Some((sb, sc)) = start.take() {
-                out.push((sc, &text[sb..b]));
-            }
-        } else if start.is_none() {
-            start = Some((b, col));
-        }
-    }
-    if let Some((sb, sc)) = start {
-        out.push((sc, &text[sb..]));
-    }
-    out
+    card::split_words(text, |c| c.is_whitespace() || c == ',')
 }
 
 fn is_integer(s: &str) -> bool {

@@ -126,21 +126,9 @@ impl Film {
     }
 }
 
-/// Why a script could not be used.
-#[derive(Debug, thiserror::Error)]
-pub enum ScriptError {
-    /// The script file could not be read.
-    #[error("cannot read {path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// The script (or a scene it names) has errors; all are listed.
-    #[error("{0}")]
-    Invalid(Diagnostics),
-}
+/// Why a script could not be used: the script file could not be read, or
+/// it (or a scene it names) has errors, all of them listed.
+pub type ScriptError = LoadError;
 
 /// Read a script file, load the scenes it names and build its timeline.
 /// Every error of the script and of its scenes is reported at once.

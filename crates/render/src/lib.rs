@@ -33,8 +33,9 @@ struct Workspace {
     cands: Vec<u32>,
     /// The same with a lower bound of their entry distance, sorted.
     sorted: Vec<(f64, u32)>,
-    /// Every primary ray of the tile and its hit.
-    hits: Vec<(Ray, Option<Hit>)>,
+    /// The tile's primary rays that hit, with their sample number in the
+    /// tile (rays that miss are not kept).
+    hits: Vec<(u32, Ray, Hit)>,
     /// Per light, the zones the tile's shadow rays may meet (`None`: too
     /// many, walk the hierarchy).
     shadow: Vec<Option<Vec<u32>>>,
@@ -253,42 +254,50 @@ impl Renderer {
                     );
                     self.prepared
                         .by_distance(&ws.cands, self.camera.eye, parallel, &mut ws.sorted);
-                    // Primary rays of the whole tile first.
+                    // Primary rays of the whole tile first (none when no
+                    // zone meets the tile: it is all background).
                     ws.hits.clear();
-                    for yy in 0..rows {
-                        for x in x0..x1 {
-                            let (fx, fy) = (x as f64, (y0 + yy) as f64);
-                            for sy in 0..n {
-                                for sx in 0..n {
-                                    let ray = gen.ray(
-                                        fx + (sx as f64 + 0.5) / n as f64,
-                                        fy + (sy as f64 + 0.5) / n as f64,
-                                    );
-                                    let hit = if few && ws.cands.is_empty() {
-                                        None
-                                    } else if few {
-                                        self.prepared.first_hit_in(
-                                            &ws.sorted,
-                                            &ray,
-                                            0.0,
-                                            f64::INFINITY,
-                                            &mut ws.s,
-                                        )
-                                    } else {
-                                        self.prepared.first_hit(&ray, 0.0, f64::INFINITY, &mut ws.s)
-                                    };
-                                    ws.hits.push((ray, hit));
+                    if !(few && ws.cands.is_empty()) {
+                        let mut k = 0;
+                        for yy in 0..rows {
+                            for x in x0..x1 {
+                                let (fx, fy) = (x as f64, (y0 + yy) as f64);
+                                for sy in 0..n {
+                                    for sx in 0..n {
+                                        let ray = gen.ray(
+                                            fx + (sx as f64 + 0.5) / n as f64,
+                                            fy + (sy as f64 + 0.5) / n as f64,
+                                        );
+                                        let hit = if few {
+                                            self.prepared.first_hit_in(
+                                                &ws.sorted,
+                                                &ray,
+                                                0.0,
+                                                f64::INFINITY,
+                                                &mut ws.s,
+                                            )
+                                        } else {
+                                            self.prepared.first_hit(
+                                                &ray,
+                                                0.0,
+                                                f64::INFINITY,
+                                                &mut ws.s,
+                                            )
+                                        };
+                                        if let Some(hit) = hit {
+                                            ws.hits.push((k, ray, hit));
+                                        }
+                                        k += 1;
+                                    }
                                 }
                             }
                         }
                     }
                     // Then, per light, the zones the tile's shadow rays may
                     // meet: they start in the box of the tile's hit points.
-                    let any_hit = ws.hits.iter().any(|(_, h)| h.is_some());
-                    if st.shadows && any_hit {
-                        let from = Aabb::from_points(
-                            ws.hits.iter().filter_map(|(r, h)| h.map(|h| r.at(h.t))),
-                        );
+                    if st.shadows && !ws.hits.is_empty() {
+                        let from =
+                            Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
                         for (l, set) in self.lights.iter().zip(ws.shadow.iter_mut()) {
                             let v = set.get_or_insert_with(Vec::new);
                             let ok = match l.kind {
@@ -310,17 +319,16 @@ impl Renderer {
                             }
                         }
                     }
-                    let mut k = 0;
+                    let (mut k, mut next) = (0, 0);
                     for yy in 0..rows {
                         for x in x0..x1 {
                             let i = yy * w + x;
                             let mut acc = [0.0f64; 3];
                             let mut cover = 0.0;
                             for _ in 0..n * n {
-                                let (ray, hit) = ws.hits[k];
-                                k += 1;
-                                let c = match hit {
-                                    Some(hit) => {
+                                let c = match ws.hits.get(next) {
+                                    Some(&(kk, ray, hit)) if kk == k => {
+                                        next += 1;
                                         cover += 1.0;
                                         self.shade_with(
                                             &ray,
@@ -330,8 +338,9 @@ impl Renderer {
                                             &mut ws.s,
                                         )
                                     }
-                                    None => self.background,
+                                    _ => self.background,
                                 };
+                                k += 1;
                                 for (a, v) in acc.iter_mut().zip(c) {
                                     *a += v;
                                 }

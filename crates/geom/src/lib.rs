@@ -20,12 +20,14 @@
 
 pub mod boolean;
 mod bvh;
+mod lightbuf;
 mod model;
 mod prepare;
 pub mod shape;
 pub mod table;
 mod trace;
 
+pub use lightbuf::LightBuffer;
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
 pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};

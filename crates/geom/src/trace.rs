@@ -37,7 +37,7 @@ impl Scratch {
     }
 
     /// Forget the previous ray's cached body segments.
-    fn new_ray(&mut self) {
+    pub(crate) fn new_ray(&mut self) {
         self.ray_id = self.ray_id.wrapping_add(1);
         if self.ray_id == 0 {
             self.stamp.iter_mut().for_each(|s| *s = 0);
@@ -88,14 +88,17 @@ pub struct Crossing {
 
 impl Prepared {
     /// Segments of body `b` along the ray, cached for the current ray.
+    /// `boxed`: the caller knows the ray meets the body's bounds.
     #[inline]
-    fn body_segs(&self, b: u32, ray: &Ray, s: &mut Scratch) -> (usize, usize) {
+    fn body_segs(&self, b: u32, ray: &Ray, s: &mut Scratch, boxed: bool) -> (usize, usize) {
         let bi = b as usize;
         if s.stamp[bi] != s.ray_id {
             let start = s.segs.len();
             // The (padded) bounds reject most misses for the price of a
             // box test.
-            if hits(&self.body_bounds[bi], ray, f64::NEG_INFINITY, f64::INFINITY).is_some() {
+            if boxed
+                || hits(&self.body_bounds[bi], ray, f64::NEG_INFINITY, f64::INFINITY).is_some()
+            {
                 self.shapes[bi].shoot(ray, &mut s.segs);
             }
             s.stamp[bi] = s.ray_id;
@@ -106,7 +109,7 @@ impl Prepared {
     }
 
     fn load_body(&self, b: u32, ray: &Ray, s: &mut Scratch, flip: bool) {
-        let (a, e) = self.body_segs(b, ray, s);
+        let (a, e) = self.body_segs(b, ray, s, false);
         s.body.clear();
         for g in &s.segs[a..e] {
             s.body.push(Span {
@@ -127,7 +130,8 @@ impl Prepared {
     }
 
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
-    /// Returns false when there are none.
+    /// Returns false when there are none. The caller has checked that the
+    /// ray meets the zone's bounds.
     fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
         let terms =
             &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
@@ -149,15 +153,33 @@ impl Prepared {
                 b: inf,
             });
         } else {
-            for &b in plus {
+            for (i, &b) in plus.iter().enumerate() {
+                // A lone `+` body has the zone's bounds, which the ray meets.
+                let (a, e) = self.body_segs(b, ray, s, plus.len() == 1);
                 // A missed `+` body empties the zone: no copy, no boolean.
-                let (a, e) = self.body_segs(b, ray, s);
                 if a == e {
                     return false;
                 }
-                if b == plus[0] {
-                    self.load_body(b, ray, s, false);
-                    s.cur.extend(s.body.iter().filter(|sp| keep(sp)));
+                if i == 0 {
+                    let segs = &s.segs[a..e];
+                    s.cur.extend(
+                        segs.iter()
+                            .map(|g| Span {
+                                a: Bound {
+                                    t: g.t0,
+                                    body: b,
+                                    face: g.f0,
+                                    flip: false,
+                                },
+                                b: Bound {
+                                    t: g.t1,
+                                    body: b,
+                                    face: g.f1,
+                                    flip: false,
+                                },
+                            })
+                            .filter(keep),
+                    );
                 } else {
                     self.load_body(b, ray, s, false);
                     intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
@@ -174,7 +196,7 @@ impl Prepared {
                 continue;
             }
             // A missed `-` body changes nothing.
-            let (a, e) = self.body_segs(b, ray, s);
+            let (a, e) = self.body_segs(b, ray, s, true);
             if a == e || s.segs[a].t0 >= last || s.segs[e - 1].t1 <= first {
                 continue;
             }
@@ -367,7 +389,11 @@ impl Prepared {
     ) -> bool {
         s.new_ray();
         for &zi in &self.unbounded_opaque {
-            if Some(zi) != skip && self.zone_spans(&self.zones[zi as usize], ray, tmin, tmax, s) {
+            let z = &self.zones[zi as usize];
+            if Some(zi) != skip
+                && hits(&z.bounds, ray, tmin, tmax).is_some()
+                && self.zone_spans(z, ray, tmin, tmax, s)
+            {
                 return true;
             }
         }
@@ -413,6 +439,21 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         s.new_ray();
+        self.any_opaque(zones, skip, ray, tmin, tmax, s)
+    }
+
+    /// True when one of `zones` (other than `skip`) lies on the ray within
+    /// `(tmin, tmax)`. The body cache is the caller's: `s.new_ray()` first
+    /// for a new ray.
+    pub(crate) fn any_opaque(
+        &self,
+        zones: &[u32],
+        skip: Option<u32>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> bool {
         zones.iter().any(|&zi| {
             let z = &self.zones[zi as usize];
             Some(zi) != skip
@@ -473,7 +514,7 @@ impl Prepared {
         tagged.clear();
         let mut collect = |zi: u32, s: &mut Scratch| {
             let z = &self.zones[zi as usize];
-            if self.zone_spans(z, ray, tmin, tmax, s) {
+            if hits(&z.bounds, ray, tmin, tmax).is_some() && self.zone_spans(z, ray, tmin, tmax, s) {
                 tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
             }
         };

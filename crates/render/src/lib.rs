@@ -20,13 +20,15 @@ pub use view::{default_camera, default_lights, frame_bounds};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-use sv_geom::{Frustum, Hit, PrepareError, PrepareOptions, Prepared, Scratch, Warning};
+use sv_geom::{
+    Frustum, Hit, LightBuffer, PrepareError, PrepareOptions, Prepared, Scratch, Warning,
+};
 
 /// Above this many candidate zones a tile's shadow rays walk the hierarchy.
 const MAX_SHADOW_ZONES: usize = 64;
 
 /// A worker's memory, reused from tile to tile.
-struct Workspace {
+struct Workspace<'a> {
     /// Ray scratch.
     s: Scratch,
     /// The tile's candidate zones.
@@ -36,21 +38,32 @@ struct Workspace {
     /// The tile's primary rays that hit, with their sample number in the
     /// tile (rays that miss are not kept).
     hits: Vec<(u32, Ray, Hit)>,
-    /// Per light, the zones the tile's shadow rays may meet (`None`: too
-    /// many, walk the hierarchy).
-    shadow: Vec<Option<Vec<u32>>>,
+    /// The zones the tile's shadow rays may meet.
+    shadow: Occluders<'a>,
 }
 
-impl Workspace {
-    fn new(p: &Prepared, lights: usize) -> Workspace {
+impl<'a> Workspace<'a> {
+    fn new(p: &Prepared, lights: usize, buffers: &'a [Option<LightBuffer>]) -> Workspace<'a> {
         Workspace {
             s: Scratch::new(p),
             cands: Vec::new(),
             sorted: Vec::new(),
             hits: Vec::new(),
-            shadow: vec![None; lights],
+            shadow: Occluders {
+                buffers,
+                sets: vec![None; lights],
+            },
         }
     }
+}
+
+/// Where shadow rays look for occluders, per light: its light buffer
+/// (parallel lights), else the zones that a tile's shadow rays may meet,
+/// else (`None` for both, or no entry) the whole hierarchy.
+#[derive(Default)]
+struct Occluders<'a> {
+    buffers: &'a [Option<LightBuffer>],
+    sets: Vec<Option<Vec<u32>>>,
 }
 
 /// Tiles are TILE×TILE pixels.
@@ -158,17 +171,29 @@ impl Renderer {
 
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
-        self.shade_with(ray, hit, shadows, None, s)
+        self.shade_with(ray, hit, shadows, &Occluders::default(), s)
     }
 
-    /// [`Renderer::shade`], with for each light the zones its shadow rays
-    /// from this tile may meet (`None` for a light: walk the hierarchy).
+    /// The light buffers of the parallel lights (`None` for other lights).
+    fn light_buffers(&self) -> Vec<Option<LightBuffer>> {
+        self.lights
+            .iter()
+            .map(|l| match l.kind {
+                LightKind::Parallel { dir } => {
+                    Some(LightBuffer::new(&self.prepared, -dir.normalize()))
+                }
+                LightKind::Point { .. } => None,
+            })
+            .collect()
+    }
+
+    /// [`Renderer::shade`], with the occluders that shadow rays may meet.
     fn shade_with(
         &self,
         ray: &Ray,
         hit: &Hit,
         shadows: bool,
-        sets: Option<&[Option<Vec<u32>>]>,
+        occ: &Occluders<'_>,
         s: &mut Scratch,
     ) -> [f64; 3] {
         let p = ray.at(hit.t);
@@ -177,7 +202,11 @@ impl Renderer {
         let mut sum = [0.0; 3];
         let eps = 10.0 * self.prepared.tolerance();
         for (li, l) in self.lights.iter().enumerate() {
+            let lb = occ.buffers.get(li).and_then(Option::as_ref);
             let (to_light, dist, fall) = match l.kind {
+                LightKind::Parallel { .. } if lb.is_some() => {
+                    (lb.map_or(DVec3::ZERO, LightBuffer::toward), f64::INFINITY, 1.0)
+                }
                 LightKind::Parallel { dir } => (-dir.normalize(), f64::INFINITY, 1.0),
                 LightKind::Point { pos, decay } => {
                     let d = pos - p;
@@ -190,13 +219,18 @@ impl Renderer {
                 continue;
             }
             if shadows {
-                let shadow = Ray::new(p, to_light);
                 let skip = self.prepared.shadow_skip(hit);
-                let blocked = match sets.and_then(|v| v[li].as_ref()) {
-                    Some(zones) => self
-                        .prepared
-                        .occluded_in(zones, skip, &shadow, eps, dist, s),
-                    None => self.prepared.occluded(&shadow, eps, dist, skip, s),
+                let blocked = if let Some(lb) = lb {
+                    let shadow = lb.shadow_ray(p);
+                    self.prepared
+                        .occluded_along(lb, &shadow, eps, dist, skip, s)
+                } else if let Some(zones) = occ.sets.get(li).and_then(Option::as_ref) {
+                    let shadow = Ray::new(p, to_light);
+                    self.prepared
+                        .occluded_in(zones, skip, &shadow, eps, dist, s)
+                } else {
+                    let shadow = Ray::new(p, to_light);
+                    self.prepared.occluded(&shadow, eps, dist, skip, s)
                 };
                 if blocked {
                     continue;
@@ -219,10 +253,15 @@ impl Renderer {
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
         let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
+        let buffers = if st.shadows {
+            self.light_buffers()
+        } else {
+            Vec::new()
+        };
         // One working memory per worker thread, made once: a `Scratch` is
         // sized by the body count, too big to make for every piece of work.
         let pool: Vec<Mutex<Workspace>> = (0..rayon::current_num_threads())
-            .map(|_| Mutex::new(Workspace::new(&self.prepared, self.lights.len())))
+            .map(|_| Mutex::new(Workspace::new(&self.prepared, self.lights.len(), &buffers)))
             .collect();
         let mine = || {
             let i = rayon::current_thread_index().unwrap_or(0) % pool.len();
@@ -298,15 +337,11 @@ impl Renderer {
                     if st.shadows && !ws.hits.is_empty() {
                         let from =
                             Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
-                        for (l, set) in self.lights.iter().zip(ws.shadow.iter_mut()) {
+                        for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
                             let v = set.get_or_insert_with(Vec::new);
                             let ok = match l.kind {
-                                LightKind::Parallel { dir } => self.prepared.swept_zones(
-                                    &from,
-                                    Some(-dir.normalize()),
-                                    MAX_SHADOW_ZONES,
-                                    v,
-                                ),
+                                // Served by the light buffer.
+                                LightKind::Parallel { .. } => false,
                                 LightKind::Point { pos, .. } => self.prepared.swept_zones(
                                     &from.including(pos),
                                     None,
@@ -334,7 +369,7 @@ impl Renderer {
                                             &ray,
                                             &hit,
                                             st.shadows,
-                                            Some(&ws.shadow),
+                                            &ws.shadow,
                                             &mut ws.s,
                                         )
                                     }

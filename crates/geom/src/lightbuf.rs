@@ -1,0 +1,310 @@
+//! The light buffer of a parallel light (Haines and Greenberg 1986, "The
+//! light buffer: a shadow-testing accelerator"): the opaque zones binned by
+//! where their bounds fall on a plane normal to the light.
+//!
+//! Every shadow ray toward a parallel light runs along the same direction,
+//! so its projection on that plane is a single point: it can only meet the
+//! zones whose projected bounds hold that point, which are the zones listed
+//! in the point's cell. A shadow test then looks at a handful of zones
+//! instead of walking the hierarchy.
+
+use crate::prepare::Prepared;
+use crate::trace::Scratch;
+use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
+
+/// Opaque zones binned on a grid normal to a parallel light's direction.
+#[derive(Clone, Debug)]
+pub struct LightBuffer {
+    /// The direction toward the light as given.
+    toward: DVec3,
+    /// The same made unit (the shadow rays' direction), and its inverse.
+    dir: DVec3,
+    inv_dir: DVec3,
+    /// The plane's axes.
+    u: DVec3,
+    v: DVec3,
+    /// Grid origin on the plane and cells per unit length along u and v.
+    origin: (f64, f64),
+    scale: (f64, f64),
+    nu: usize,
+    nv: usize,
+    /// Zones of cell `c` are `items[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// Upper bound on the number of cells.
+const MAX_CELLS: usize = 1 << 20;
+/// Upper bound on the zone references, as a multiple of the zone count (the
+/// grid is made coarser until it fits).
+const MAX_REFS_PER_ZONE: usize = 32;
+
+impl LightBuffer {
+    /// The buffer of `p`'s opaque zones for shadow rays along `to_light`
+    /// (need not be unit).
+    pub fn new(p: &Prepared, to_light: DVec3) -> LightBuffer {
+        let dir = to_light.normalize();
+        let (u, v) = orthonormal_basis(dir);
+        // Each zone's bounds on the plane, padded so that rounding in the
+        // projection of a shadow ray's origin cannot lose a zone.
+        let pad = 4.0 * p.tol;
+        let rects: Vec<(u32, [f64; 4])> = p
+            .bvh_opaque
+            .items
+            .iter()
+            .map(|&zi| (zi, project(&p.zones[zi as usize].bounds, u, v, pad)))
+            .collect();
+        let ext = rects.iter().fold(
+            [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY],
+            |e, (_, r)| [e[0].min(r[0]), e[1].min(r[1]), e[2].max(r[2]), e[3].max(r[3])],
+        );
+        let mut lb = LightBuffer {
+            toward: to_light,
+            dir,
+            inv_dir: dir.recip(),
+            u,
+            v,
+            origin: (ext[0], ext[1]),
+            scale: (0.0, 0.0),
+            nu: 1,
+            nv: 1,
+            start: vec![0, 0],
+            items: Vec::new(),
+        };
+        let (wu, wv) = (ext[2] - ext[0], ext[3] - ext[1]);
+        let finite = wu.is_finite() && wv.is_finite();
+        if rects.is_empty() || !finite {
+            // No bounded zone (or bounds too large to grid): one cell
+            // holding every zone.
+            lb.scale = (0.0, 0.0);
+            lb.items = rects.iter().map(|r| r.0).collect();
+            lb.start = vec![0, lb.items.len() as u32];
+            lb.origin = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+            return lb;
+        }
+        // About sixteen cells per zone (at least 64 × 64), shaped like the
+        // extent.
+        let mut cells = (16 * rects.len()).clamp(4096, MAX_CELLS) as f64;
+        loop {
+            let aspect = (wu / wv.max(f64::MIN_POSITIVE)).clamp(1e-3, 1e3);
+            let nu = ((cells * aspect).sqrt().round() as usize).clamp(1, 4096);
+            let nv = ((cells / nu as f64).round() as usize).clamp(1, 4096);
+            let scale = (
+                nu as f64 / wu.max(f64::MIN_POSITIVE),
+                nv as f64 / wv.max(f64::MIN_POSITIVE),
+            );
+            lb.nu = nu;
+            lb.nv = nv;
+            lb.scale = scale;
+            let refs: usize = rects
+                .iter()
+                .map(|(_, r)| {
+                    let (a, b) = lb.span(r);
+                    (a.1 - a.0 + 1) * (b.1 - b.0 + 1)
+                })
+                .sum();
+            if refs <= MAX_REFS_PER_ZONE * rects.len() || nu * nv == 1 {
+                break;
+            }
+            cells = (nu * nv) as f64 / 4.0;
+        }
+        // Counting sort of the references by cell.
+        let mut count = vec![0u32; lb.nu * lb.nv + 1];
+        for (_, r) in &rects {
+            let ((u0, u1), (v0, v1)) = lb.span(r);
+            for j in v0..=v1 {
+                for i in u0..=u1 {
+                    count[j * lb.nu + i + 1] += 1;
+                }
+            }
+        }
+        for c in 1..count.len() {
+            count[c] += count[c - 1];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; *count.last().unwrap_or(&0) as usize];
+        for (zi, r) in &rects {
+            let ((u0, u1), (v0, v1)) = lb.span(r);
+            for j in v0..=v1 {
+                for i in u0..=u1 {
+                    let c = j * lb.nu + i;
+                    items[fill[c] as usize] = *zi;
+                    fill[c] += 1;
+                }
+            }
+        }
+        lb.start = count;
+        lb.items = items;
+        lb
+    }
+
+    /// The direction toward the light, as given to [`LightBuffer::new`].
+    pub fn toward(&self) -> DVec3 {
+        self.toward
+    }
+
+    /// The shadow ray from `p` toward the light: exactly
+    /// `Ray::new(p, self.toward())`, without its divisions.
+    pub fn shadow_ray(&self, p: DVec3) -> Ray {
+        Ray {
+            origin: p,
+            dir: self.dir,
+            inv_dir: self.inv_dir,
+        }
+    }
+
+    /// The cells (inclusive ranges along u and v) covered by a rectangle.
+    fn span(&self, r: &[f64; 4]) -> ((usize, usize), (usize, usize)) {
+        let (i0, j0) = self.cell_of(r[0], r[1]);
+        let (i1, j1) = self.cell_of(r[2], r[3]);
+        ((i0, i1), (j0, j1))
+    }
+
+    /// The cell holding plane point `(a, b)`, clamped to the grid.
+    fn cell_of(&self, a: f64, b: f64) -> (usize, usize) {
+        let i = ((a - self.origin.0) * self.scale.0).floor();
+        let j = ((b - self.origin.1) * self.scale.1).floor();
+        (
+            (i.max(0.0) as usize).min(self.nu - 1),
+            (j.max(0.0) as usize).min(self.nv - 1),
+        )
+    }
+
+    /// The zones a shadow ray from `p` may meet, or `None` when `p` lies
+    /// off the grid (no bounded zone can be met) or is not a number.
+    fn zones_at(&self, p: DVec3) -> Option<&[u32]> {
+        let (a, b) = (p.dot(self.u), p.dot(self.v));
+        let (fa, fb) = (
+            (a - self.origin.0) * self.scale.0,
+            (b - self.origin.1) * self.scale.1,
+        );
+        // Outside the grid (NaN fails both tests and lands here too; the
+        // caller then tests every zone).
+        if !(fa >= 0.0 && fb >= 0.0 && fa < self.nu as f64 && fb < self.nv as f64) {
+            return None;
+        }
+        let c = fb as usize * self.nu + fa as usize;
+        Some(&self.items[self.start[c] as usize..self.start[c + 1] as usize])
+    }
+}
+
+/// A box's extent on the plane spanned by `u` and `v`: `[u0, v0, u1, v1]`.
+fn project(b: &Aabb, u: DVec3, v: DVec3, pad: f64) -> [f64; 4] {
+    let c = b.center();
+    let h = b.size() * 0.5;
+    let (cu, cv) = (c.dot(u), c.dot(v));
+    // Half-widths of the projected box; grown by a relative slack for the
+    // rounding of the dot products.
+    let (hu, hv) = (h.dot(u.abs()), h.dot(v.abs()));
+    let su = pad + 1e-12 * (cu.abs() + hu);
+    let sv = pad + 1e-12 * (cv.abs() + hv);
+    [cu - hu - su, cv - hv - sv, cu + hu + su, cv + hv + sv]
+}
+
+impl Prepared {
+    /// As [`Prepared::occluded`] for a shadow ray along the direction of
+    /// `lb` (a ray from [`LightBuffer::shadow_ray`]): the same
+    /// answer, looking only at the zones of the ray origin's cell.
+    pub fn occluded_along(
+        &self,
+        lb: &LightBuffer,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        skip: Option<u32>,
+        s: &mut Scratch,
+    ) -> bool {
+        debug_assert!((ray.dir - lb.dir).length() < 1e-12);
+        let zones = match lb.zones_at(ray.origin) {
+            Some(zones) => zones,
+            // A point that is not a number: let the full search decide.
+            None if ray.origin.is_nan() => return self.occluded(ray, tmin, tmax, skip, s),
+            // Off the grid: only unbounded zones can be met.
+            None => &[],
+        };
+        s.new_ray();
+        self.any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
+            || self.any_opaque(zones, skip, ray, tmin, tmax, s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+
+    /// A grid of spheres, each its own region.
+    fn spheres(n: usize) -> Prepared {
+        let mut g = Geometry::default();
+        for i in 0..n {
+            for j in 0..n {
+                let b = g.bodies.len();
+                g.bodies.push(Body::new(
+                    &format!("s{i}_{j}"),
+                    BodyKind::Sph,
+                    vec![i as f64 * 3.0, j as f64 * 3.0, (i + j) as f64 * 0.5, 1.0],
+                ));
+                g.regions.push(Region {
+                    name: format!("r{b}"),
+                    zones: vec![Zone {
+                        terms: vec![Term {
+                            op: Op::Inside,
+                            body: b,
+                        }],
+                    }],
+                });
+            }
+        }
+        Prepared::new(&g, &PrepareOptions::default()).unwrap().0
+    }
+
+    #[test]
+    fn agrees_with_the_full_search_on_many_shadow_rays() {
+        let p = spheres(6);
+        let mut s = Scratch::new(&p);
+        let mut met = 0;
+        for (k, to_light) in [
+            DVec3::new(0.3, 0.2, 1.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(-1.0, 1.0, 0.01),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let lb = LightBuffer::new(&p, to_light);
+            // Origins on a lattice through and around the spheres.
+            for a in 0..40 {
+                for b in 0..40 {
+                    for c in 0..3 {
+                        let o = DVec3::new(
+                            -3.0 + a as f64 * 0.61,
+                            -3.0 + b as f64 * 0.59 + k as f64 * 0.01,
+                            -2.0 + c as f64 * 2.7,
+                        );
+                        let ray = lb.shadow_ray(o);
+                        assert_eq!(ray, Ray::new(o, to_light));
+                        let want = p.occluded(&ray, 1e-6, f64::INFINITY, None, &mut s);
+                        let got = p.occluded_along(&lb, &ray, 1e-6, f64::INFINITY, None, &mut s);
+                        assert_eq!(got, want, "origin {o:?} toward {to_light:?}");
+                        met += usize::from(want);
+                    }
+                }
+            }
+        }
+        assert!(met > 500, "the lattice should be shadowed often: {met}");
+    }
+
+    #[test]
+    fn a_cell_lists_few_zones() {
+        let p = spheres(20);
+        let lb = LightBuffer::new(&p, DVec3::new(0.1, 0.2, 1.0));
+        let cells = lb.start.len() - 1;
+        let longest = (0..cells)
+            .map(|c| lb.start[c + 1] - lb.start[c])
+            .max()
+            .unwrap();
+        assert!(cells >= 400, "{cells} cells");
+        assert!(longest <= 8, "a cell lists {longest} of 400 zones");
+    }
+}

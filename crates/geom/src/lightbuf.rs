@@ -5,8 +5,10 @@
 //! Every shadow ray toward a parallel light runs along the same direction,
 //! so its projection on that plane is a single point: it can only meet the
 //! zones whose projected bounds hold that point, which are the zones listed
-//! in the point's cell. A shadow test then looks at a handful of zones
-//! instead of walking the hierarchy.
+//! in the point's cell. Each cell's zones are sorted by how far their
+//! bounds reach toward the light, so the zones wholly behind the ray's
+//! origin are skipped with a binary search. A shadow test then looks at a
+//! handful of zones instead of walking the hierarchy.
 
 use crate::prepare::Prepared;
 use crate::trace::Scratch;
@@ -28,9 +30,11 @@ pub struct LightBuffer {
     scale: (f64, f64),
     nu: usize,
     nv: usize,
-    /// Zones of cell `c` are `items[start[c]..start[c + 1]]`.
+    /// Zones of cell `c` are `items[start[c]..start[c + 1]]`, sorted by
+    /// `far`: how far (along `dir`) their bounds reach.
     start: Vec<u32>,
     items: Vec<u32>,
+    far: Vec<f64>,
 }
 
 /// Upper bound on the number of cells.
@@ -48,15 +52,19 @@ impl LightBuffer {
         // Each zone's bounds on the plane, padded so that rounding in the
         // projection of a shadow ray's origin cannot lose a zone.
         let pad = 4.0 * p.tol;
-        let rects: Vec<(u32, [f64; 4])> = p
+        let mut rects: Vec<(u32, [f64; 4], f64)> = p
             .bvh_opaque
             .items
             .iter()
-            .map(|&zi| (zi, project(&p.zones[zi as usize].bounds, u, v, pad)))
+            .map(|&zi| {
+                let b = &p.zones[zi as usize].bounds;
+                (zi, project(b, u, v, pad), reach(b, dir, pad))
+            })
             .collect();
+        rects.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
         let ext = rects.iter().fold(
             [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY],
-            |e, (_, r)| [e[0].min(r[0]), e[1].min(r[1]), e[2].max(r[2]), e[3].max(r[3])],
+            |e, (_, r, _)| [e[0].min(r[0]), e[1].min(r[1]), e[2].max(r[2]), e[3].max(r[3])],
         );
         let mut lb = LightBuffer {
             toward: to_light,
@@ -70,6 +78,7 @@ impl LightBuffer {
             nv: 1,
             start: vec![0, 0],
             items: Vec::new(),
+            far: Vec::new(),
         };
         let (wu, wv) = (ext[2] - ext[0], ext[3] - ext[1]);
         let finite = wu.is_finite() && wv.is_finite();
@@ -78,6 +87,7 @@ impl LightBuffer {
             // holding every zone.
             lb.scale = (0.0, 0.0);
             lb.items = rects.iter().map(|r| r.0).collect();
+            lb.far = rects.iter().map(|r| r.2).collect();
             lb.start = vec![0, lb.items.len() as u32];
             lb.origin = (f64::NEG_INFINITY, f64::NEG_INFINITY);
             return lb;
@@ -98,7 +108,7 @@ impl LightBuffer {
             lb.scale = scale;
             let refs: usize = rects
                 .iter()
-                .map(|(_, r)| {
+                .map(|(_, r, _)| {
                     let (a, b) = lb.span(r);
                     (a.1 - a.0 + 1) * (b.1 - b.0 + 1)
                 })
@@ -110,7 +120,7 @@ impl LightBuffer {
         }
         // Counting sort of the references by cell.
         let mut count = vec![0u32; lb.nu * lb.nv + 1];
-        for (_, r) in &rects {
+        for (_, r, _) in &rects {
             let ((u0, u1), (v0, v1)) = lb.span(r);
             for j in v0..=v1 {
                 for i in u0..=u1 {
@@ -122,19 +132,23 @@ impl LightBuffer {
             count[c] += count[c - 1];
         }
         let mut fill = count.clone();
-        let mut items = vec![0u32; *count.last().unwrap_or(&0) as usize];
-        for (zi, r) in &rects {
+        let total = *count.last().unwrap_or(&0) as usize;
+        let (mut items, mut far) = (vec![0u32; total], vec![0.0; total]);
+        // In order of reach, so every cell's list comes out sorted.
+        for (zi, r, f) in &rects {
             let ((u0, u1), (v0, v1)) = lb.span(r);
             for j in v0..=v1 {
                 for i in u0..=u1 {
                     let c = j * lb.nu + i;
                     items[fill[c] as usize] = *zi;
+                    far[fill[c] as usize] = *f;
                     fill[c] += 1;
                 }
             }
         }
         lb.start = count;
         lb.items = items;
+        lb.far = far;
         lb
     }
 
@@ -173,6 +187,7 @@ impl LightBuffer {
     /// The zones a shadow ray from `p` may meet, or `None` when `p` lies
     /// off the grid (no bounded zone can be met) or is not a number.
     fn zones_at(&self, p: DVec3) -> Option<&[u32]> {
+        let depth = p.dot(self.dir);
         let (a, b) = (p.dot(self.u), p.dot(self.v));
         let (fa, fb) = (
             (a - self.origin.0) * self.scale.0,
@@ -184,8 +199,18 @@ impl LightBuffer {
             return None;
         }
         let c = fb as usize * self.nu + fa as usize;
-        Some(&self.items[self.start[c] as usize..self.start[c + 1] as usize])
+        let cell = self.start[c] as usize..self.start[c + 1] as usize;
+        // Zones that do not reach past the origin lie behind the ray.
+        let behind = self.far[cell.clone()].partition_point(|&f| f < depth);
+        Some(&self.items[cell.start + behind..cell.end])
     }
+}
+
+/// How far a box reaches along unit `dir` (the largest `x · dir` over
+/// it), rounded up.
+fn reach(b: &Aabb, dir: DVec3, pad: f64) -> f64 {
+    let (c, h) = (b.center().dot(dir), (b.size() * 0.5).dot(dir.abs()));
+    c + h + pad + 1e-12 * (c.abs() + h)
 }
 
 /// A box's extent on the plane spanned by `u` and `v`: `[u0, v0, u1, v1]`.

@@ -69,7 +69,7 @@ struct Occluders<'a> {
 /// Tiles are TILE×TILE pixels.
 const TILE: usize = 16;
 /// Above this many candidate zones a tile's rays walk the hierarchy.
-const MAX_TILE_ZONES: usize = 48;
+const MAX_TILE_ZONES: usize = 128;
 use sv_math::{Aabb, DVec3, Ray};
 use sv_scene::{Background, Camera, Light, LightKind, Scene};
 

@@ -90,11 +90,14 @@ impl Camera {
             Lens::Ortho { height } => (height / 2.0, true),
             _ => (self.tan_half_fov(), false),
         };
+        // Every orthographic ray has the same direction: made once.
+        let along = Ray::new(DVec3::ZERO, f);
         RayGen {
             eye: self.eye,
             right: r * (half_h * aspect),
             up: u * half_h,
             forward: f,
+            along,
             ortho,
             inv_w: 1.0 / width as f64,
             inv_h: 1.0 / height as f64,
@@ -109,6 +112,8 @@ pub struct RayGen {
     right: DVec3,
     up: DVec3,
     forward: DVec3,
+    /// The direction of orthographic rays (origin unused).
+    along: Ray,
     ortho: bool,
     inv_w: f64,
     inv_h: f64,
@@ -122,7 +127,11 @@ impl RayGen {
         let sx = 2.0 * x * self.inv_w - 1.0;
         let sy = 1.0 - 2.0 * y * self.inv_h;
         if self.ortho {
-            Ray::new(self.eye + self.right * sx + self.up * sy, self.forward)
+            // Exactly `Ray::new(origin, self.forward)`.
+            Ray {
+                origin: self.eye + self.right * sx + self.up * sy,
+                ..self.along
+            }
         } else {
             Ray::new(self.eye, self.forward + self.right * sx + self.up * sy)
         }

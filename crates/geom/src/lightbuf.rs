@@ -63,8 +63,20 @@ impl LightBuffer {
             .collect();
         rects.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
         let ext = rects.iter().fold(
-            [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY],
-            |e, (_, r, _)| [e[0].min(r[0]), e[1].min(r[1]), e[2].max(r[2]), e[3].max(r[3])],
+            [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ],
+            |e, (_, r, _)| {
+                [
+                    e[0].min(r[0]),
+                    e[1].min(r[1]),
+                    e[2].max(r[2]),
+                    e[3].max(r[3]),
+                ]
+            },
         );
         let mut lb = LightBuffer {
             toward: to_light,
@@ -265,7 +277,7 @@ mod tests {
             for j in 0..n {
                 let b = g.bodies.len();
                 g.bodies.push(Body::new(
-                    &format!("s{i}_{j}"),
+                    format!("s{i}_{j}"),
                     BodyKind::Sph,
                     vec![i as f64 * 3.0, j as f64 * 3.0, (i + j) as f64 * 0.5, 1.0],
                 ));

@@ -96,8 +96,7 @@ impl Prepared {
             let start = s.segs.len();
             // The (padded) bounds reject most misses for the price of a
             // box test.
-            if boxed
-                || hits(&self.body_bounds[bi], ray, f64::NEG_INFINITY, f64::INFINITY).is_some()
+            if boxed || hits(&self.body_bounds[bi], ray, f64::NEG_INFINITY, f64::INFINITY).is_some()
             {
                 self.shapes[bi].shoot(ray, &mut s.segs);
             }
@@ -514,7 +513,8 @@ impl Prepared {
         tagged.clear();
         let mut collect = |zi: u32, s: &mut Scratch| {
             let z = &self.zones[zi as usize];
-            if hits(&z.bounds, ray, tmin, tmax).is_some() && self.zone_spans(z, ray, tmin, tmax, s) {
+            if hits(&z.bounds, ray, tmin, tmax).is_some() && self.zone_spans(z, ray, tmin, tmax, s)
+            {
                 tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
             }
         };

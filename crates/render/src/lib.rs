@@ -203,12 +203,11 @@ impl Renderer {
         let eps = 10.0 * self.prepared.tolerance();
         for (li, l) in self.lights.iter().enumerate() {
             let lb = occ.buffers.get(li).and_then(Option::as_ref);
-            let (to_light, dist, fall) = match l.kind {
-                LightKind::Parallel { .. } if lb.is_some() => {
-                    (lb.map_or(DVec3::ZERO, LightBuffer::toward), f64::INFINITY, 1.0)
-                }
-                LightKind::Parallel { dir } => (-dir.normalize(), f64::INFINITY, 1.0),
-                LightKind::Point { pos, decay } => {
+            let (to_light, dist, fall) = match (l.kind, lb) {
+                // The buffer keeps the direction, made once.
+                (LightKind::Parallel { .. }, Some(lb)) => (lb.toward(), f64::INFINITY, 1.0),
+                (LightKind::Parallel { dir }, None) => (-dir.normalize(), f64::INFINITY, 1.0),
+                (LightKind::Point { pos, decay }, _) => {
                     let d = pos - p;
                     let r = d.length();
                     (d / r, r, r.powf(-decay))
@@ -335,8 +334,7 @@ impl Renderer {
                     // Then, per light, the zones the tile's shadow rays may
                     // meet: they start in the box of the tile's hit points.
                     if st.shadows && !ws.hits.is_empty() {
-                        let from =
-                            Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
+                        let from = Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
                         for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
                             let v = set.get_or_insert_with(Vec::new);
                             let ok = match l.kind {
@@ -366,11 +364,7 @@ impl Renderer {
                                         next += 1;
                                         cover += 1.0;
                                         self.shade_with(
-                                            &ray,
-                                            &hit,
-                                            st.shadows,
-                                            &ws.shadow,
-                                            &mut ws.s,
+                                            &ray, &hit, st.shadows, &ws.shadow, &mut ws.s,
                                         )
                                     }
                                     _ => self.background,

@@ -246,3 +246,119 @@ fn serial_parallel_and_brute_force_renders_are_bit_identical() {
     .0;
     assert_eq!(brute.render(&st, &|_| {}), one);
 }
+
+/// A lattice of 9 × 9 × 6 spheres, every other one pierced by a cylinder,
+/// seen in perspective from a corner: tiles meet hundreds of zones, so the
+/// rays walk the hierarchy, the shadow rays toward the sun use its light
+/// buffer and those toward the lamp the swept zone lists.
+fn crowded() -> Scene {
+    let mut s = Scene::default();
+    let mut props = vec![];
+    for i in 0..9 {
+        for j in 0..9 {
+            for k in 0..6 {
+                let c = [i as f64 * 1.1, j as f64 * 1.1, k as f64 * 1.1];
+                let b = s.geometry.bodies.len();
+                s.geometry.bodies.push(Body::new(
+                    format!("s{b}"),
+                    BodyKind::Sph,
+                    vec![c[0], c[1], c[2], 0.5 + 0.01 * ((i + j + k) % 5) as f64],
+                ));
+                let mut terms = vec![Term {
+                    op: Op::Inside,
+                    body: b,
+                }];
+                if (i + j + k) % 2 == 0 {
+                    s.geometry.bodies.push(Body::new(
+                        format!("c{b}"),
+                        BodyKind::Rcc,
+                        vec![c[0] - 0.7, c[1] + 0.1, c[2], 1.4, 0.3, 0.2, 0.22],
+                    ));
+                    terms.push(Term {
+                        op: Op::Outside,
+                        body: b + 1,
+                    });
+                }
+                s.geometry.regions.push(Region {
+                    name: format!("r{b}"),
+                    zones: vec![Zone { terms }],
+                });
+                props.push(RegionProps::default());
+            }
+        }
+    }
+    s.regions = props;
+    s.camera = Some(Camera::looking_at(
+        DVec3::new(-3.0, -2.5, 7.0),
+        DVec3::new(4.4, 4.4, 2.7),
+        DVec3::Z,
+        Lens::Fov { vertical_deg: 45.0 },
+    ));
+    s.lights = vec![
+        Light {
+            kind: LightKind::Parallel {
+                dir: DVec3::new(-0.3, 0.5, -1.0),
+            },
+            intensity: 0.7,
+            colour: [1.0; 3],
+            name: "SUN".into(),
+        },
+        Light {
+            kind: LightKind::Point {
+                pos: DVec3::new(12.0, -2.0, 8.0),
+                decay: 0.0,
+            },
+            intensity: 0.3,
+            colour: [1.0; 3],
+            name: "LAMP".into(),
+        },
+    ];
+    s
+}
+
+#[test]
+fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy() {
+    let scene = crowded();
+    let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    let st = Settings {
+        width: 96,
+        height: 72,
+        shadows: true,
+        samples: 1,
+        aovs: true,
+    };
+    let on = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| r.render(&st, &|_| {}))
+    };
+    let one = on(1);
+    assert_eq!(on(2), one);
+    // The picture is worth comparing: mostly spheres, many in shadow.
+    let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
+    assert!(cover > one.alpha.len() / 2, "coverage {cover}");
+    let unshadowed = r.render(
+        &Settings {
+            shadows: false,
+            ..st.clone()
+        },
+        &|_| {},
+    );
+    let shaded = (0..one.rgb.len())
+        .filter(|&i| one.rgb[i] != unshadowed.rgb[i])
+        .count();
+    assert!(shaded > one.rgb.len() / 10, "{shaded} pixels in shadow");
+    let brute = Renderer::with_options(
+        &scene,
+        4.0 / 3.0,
+        sv_geom::PrepareOptions {
+            brute_force: true,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .0;
+    assert_eq!(brute.render(&st, &|_| {}), one);
+}

@@ -7,8 +7,10 @@
 //! zones whose projected bounds hold that point, which are the zones listed
 //! in the point's cell. Each cell's zones are sorted by how far their
 //! bounds reach toward the light, so the zones wholly behind the ray's
-//! origin are skipped with a binary search. A shadow test then looks at a
-//! handful of zones instead of walking the hierarchy.
+//! origin are skipped with a binary search. Zones large beside the rest
+//! (a ground under a vehicle) are kept apart in one list, so that they do
+//! not stretch the grid. A shadow test then looks at a handful of zones
+//! instead of walking the hierarchy.
 
 use crate::prepare::Prepared;
 use crate::trace::Scratch;
@@ -35,6 +37,9 @@ pub struct LightBuffer {
     start: Vec<u32>,
     items: Vec<u32>,
     far: Vec<f64>,
+    /// The large zones, left out of the grid, sorted by `big_far`.
+    big: Vec<u32>,
+    big_far: Vec<f64>,
 }
 
 /// Upper bound on the number of cells.
@@ -62,48 +67,37 @@ impl LightBuffer {
             })
             .collect();
         rects.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
-        let ext = rects.iter().fold(
-            [
-                f64::INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::NEG_INFINITY,
-            ],
-            |e, (_, r, _)| {
-                [
-                    e[0].min(r[0]),
-                    e[1].min(r[1]),
-                    e[2].max(r[2]),
-                    e[3].max(r[3]),
-                ]
-            },
-        );
+        // Zones more than a quarter as wide as everything go apart.
+        let all = extent(&rects);
+        let (aw, ah) = (all[2] - all[0], all[3] - all[1]);
+        let (big, rects): (Vec<_>, Vec<_>) = rects.into_iter().partition(|(_, r, _)| {
+            !(aw.is_finite() && ah.is_finite())
+                || is_large(r[2] - r[0], aw)
+                || is_large(r[3] - r[1], ah)
+        });
+        let ext = extent(&rects);
         let mut lb = LightBuffer {
             toward: to_light,
             dir,
             inv_dir: dir.recip(),
             u,
             v,
-            origin: (ext[0], ext[1]),
+            origin: (0.0, 0.0),
             scale: (0.0, 0.0),
             nu: 1,
             nv: 1,
             start: vec![0, 0],
             items: Vec::new(),
             far: Vec::new(),
+            big: big.iter().map(|r| r.0).collect(),
+            big_far: big.iter().map(|r| r.2).collect(),
         };
         let (wu, wv) = (ext[2] - ext[0], ext[3] - ext[1]);
-        let finite = wu.is_finite() && wv.is_finite();
-        if rects.is_empty() || !finite {
-            // No bounded zone (or bounds too large to grid): one cell
-            // holding every zone.
-            lb.scale = (0.0, 0.0);
-            lb.items = rects.iter().map(|r| r.0).collect();
-            lb.far = rects.iter().map(|r| r.2).collect();
-            lb.start = vec![0, lb.items.len() as u32];
-            lb.origin = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        if rects.is_empty() || !(wu.is_finite() && wv.is_finite()) {
+            // No zone to grid: one empty cell.
             return lb;
         }
+        lb.origin = (ext[0], ext[1]);
         // About sixteen cells per zone (at least 64 × 64), shaped like the
         // extent.
         let mut cells = (16 * rects.len()).clamp(4096, MAX_CELLS) as f64;
@@ -196,26 +190,55 @@ impl LightBuffer {
         )
     }
 
-    /// The zones a shadow ray from `p` may meet, or `None` when `p` lies
-    /// off the grid (no bounded zone can be met) or is not a number.
-    fn zones_at(&self, p: DVec3) -> Option<&[u32]> {
+    /// The bounded zones a shadow ray from `p` may meet: the large ones
+    /// and those of `p`'s cell (none off the grid), or `None` when `p` is
+    /// not a number.
+    fn zones_at(&self, p: DVec3) -> Option<(&[u32], &[u32])> {
+        if p.is_nan() {
+            return None;
+        }
         let depth = p.dot(self.dir);
+        // Zones that do not reach past the origin lie behind the ray.
+        let big = &self.big[self.big_far.partition_point(|&f| f < depth)..];
         let (a, b) = (p.dot(self.u), p.dot(self.v));
         let (fa, fb) = (
             (a - self.origin.0) * self.scale.0,
             (b - self.origin.1) * self.scale.1,
         );
-        // Outside the grid (NaN fails both tests and lands here too; the
-        // caller then tests every zone).
         if !(fa >= 0.0 && fb >= 0.0 && fa < self.nu as f64 && fb < self.nv as f64) {
-            return None;
+            return Some((big, &[]));
         }
         let c = fb as usize * self.nu + fa as usize;
         let cell = self.start[c] as usize..self.start[c + 1] as usize;
-        // Zones that do not reach past the origin lie behind the ray.
         let behind = self.far[cell.clone()].partition_point(|&f| f < depth);
-        Some(&self.items[cell.start + behind..cell.end])
+        Some((big, &self.items[cell.start + behind..cell.end]))
     }
+}
+
+/// True when a rectangle side of length `side` is large beside the whole
+/// extent `whole` along the same axis.
+fn is_large(side: f64, whole: f64) -> bool {
+    side > 0.25 * whole
+}
+
+/// The extent `[u0, v0, u1, v1]` of projected rectangles.
+fn extent(rects: &[(u32, [f64; 4], f64)]) -> [f64; 4] {
+    rects.iter().fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |e, (_, r, _)| {
+            [
+                e[0].min(r[0]),
+                e[1].min(r[1]),
+                e[2].max(r[2]),
+                e[3].max(r[3]),
+            ]
+        },
+    )
 }
 
 /// How far a box reaches along unit `dir` (the largest `x · dir` over
@@ -252,16 +275,14 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         debug_assert!((ray.dir - lb.dir).length() < 1e-12);
-        let zones = match lb.zones_at(ray.origin) {
-            Some(zones) => zones,
+        let Some((big, cell)) = lb.zones_at(ray.origin) else {
             // A point that is not a number: let the full search decide.
-            None if ray.origin.is_nan() => return self.occluded(ray, tmin, tmax, skip, s),
-            // Off the grid: only unbounded zones can be met.
-            None => &[],
+            return self.occluded(ray, tmin, tmax, skip, s);
         };
         s.new_ray();
         self.any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
-            || self.any_opaque(zones, skip, ray, tmin, tmax, s)
+            || self.any_opaque(big, skip, ray, tmin, tmax, s)
+            || self.any_opaque(cell, skip, ray, tmin, tmax, s)
     }
 }
 
@@ -270,9 +291,24 @@ mod tests {
     use super::*;
     use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
 
-    /// A grid of spheres, each its own region.
+    /// A grid of spheres, each its own region, on a much larger ground
+    /// slab (region 0).
     fn spheres(n: usize) -> Prepared {
         let mut g = Geometry::default();
+        g.bodies.push(Body::new(
+            "ground",
+            BodyKind::Rpp,
+            vec![-500.0, 500.0, -500.0, 500.0, -3.0, -2.5],
+        ));
+        g.regions.push(Region {
+            name: "ground".into(),
+            zones: vec![Zone {
+                terms: vec![Term {
+                    op: Op::Inside,
+                    body: 0,
+                }],
+            }],
+        });
         for i in 0..n {
             for j in 0..n {
                 let b = g.bodies.len();
@@ -333,9 +369,10 @@ mod tests {
     }
 
     #[test]
-    fn a_cell_lists_few_zones() {
+    fn a_cell_lists_few_zones_and_the_ground_stays_apart() {
         let p = spheres(20);
         let lb = LightBuffer::new(&p, DVec3::new(0.1, 0.2, 1.0));
+        assert_eq!(lb.big, [0], "the ground is kept apart");
         let cells = lb.start.len() - 1;
         let longest = (0..cells)
             .map(|c| lb.start[c + 1] - lb.start[c])

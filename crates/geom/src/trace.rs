@@ -600,7 +600,8 @@ impl Prepared {
 /// it must contain every ray of the bundle.
 #[derive(Clone, Copy, Debug)]
 pub struct Frustum {
-    planes: [(DVec3, f64); 4],
+    /// Normal `n`, offset `d` and the rounding slack `1e-9 (|d| + |n|)`.
+    planes: [(DVec3, f64, f64); 4],
 }
 
 impl Frustum {
@@ -618,14 +619,15 @@ impl Frustum {
             if n.dot(probe - a.origin) < 0.0 {
                 n = -n;
             }
-            (n, n.dot(a.origin))
+            let d = n.dot(a.origin);
+            (n, d, 1e-9 * (d.abs() + n.length()))
         });
         Frustum { planes }
     }
 
     /// False only when the box lies wholly outside.
     pub fn may_meet(&self, b: &sv_math::Aabb) -> bool {
-        self.planes.iter().all(|(n, d)| {
+        self.planes.iter().all(|&(n, d, slack)| {
             let p = DVec3::new(
                 if n.x > 0.0 { b.max.x } else { b.min.x },
                 if n.y > 0.0 { b.max.y } else { b.min.y },
@@ -634,7 +636,7 @@ impl Frustum {
             let v = n.dot(p);
             // Rounding slack: rule a box out only when clearly outside.
             // (NaN compares false and keeps the box.)
-            v >= *d - 1e-9 * (d.abs() + v.abs() + n.length()) || v.is_nan()
+            !(v < d - slack - 1e-9 * v.abs())
         })
     }
 }

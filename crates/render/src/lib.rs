@@ -35,6 +35,9 @@ struct Workspace<'a> {
     cands: Vec<u32>,
     /// The same with a lower bound of their entry distance, sorted.
     sorted: Vec<(f64, u32)>,
+    /// The raster positions of the tile's primary rays, and the rays.
+    pts: Vec<[f64; 2]>,
+    rays: Vec<Ray>,
     /// The tile's primary rays that hit, with their sample number in the
     /// tile (rays that miss are not kept).
     hits: Vec<(u32, Ray, Hit)>,
@@ -48,6 +51,8 @@ impl<'a> Workspace<'a> {
             s: Scratch::new(p),
             cands: Vec::new(),
             sorted: Vec::new(),
+            pts: Vec::new(),
+            rays: Vec::new(),
             hits: Vec::new(),
             shadow: Occluders {
                 buffers,
@@ -296,38 +301,36 @@ impl Renderer {
                     // zone meets the tile: it is all background).
                     ws.hits.clear();
                     if !(few && ws.cands.is_empty()) {
-                        let mut k = 0;
+                        ws.pts.clear();
                         for yy in 0..rows {
                             for x in x0..x1 {
                                 let (fx, fy) = (x as f64, (y0 + yy) as f64);
                                 for sy in 0..n {
                                     for sx in 0..n {
-                                        let ray = gen.ray(
+                                        ws.pts.push([
                                             fx + (sx as f64 + 0.5) / n as f64,
                                             fy + (sy as f64 + 0.5) / n as f64,
-                                        );
-                                        let hit = if few {
-                                            self.prepared.first_hit_in(
-                                                &ws.sorted,
-                                                &ray,
-                                                0.0,
-                                                f64::INFINITY,
-                                                &mut ws.s,
-                                            )
-                                        } else {
-                                            self.prepared.first_hit(
-                                                &ray,
-                                                0.0,
-                                                f64::INFINITY,
-                                                &mut ws.s,
-                                            )
-                                        };
-                                        if let Some(hit) = hit {
-                                            ws.hits.push((k, ray, hit));
-                                        }
-                                        k += 1;
+                                        ]);
                                     }
                                 }
+                            }
+                        }
+                        ws.rays.clear();
+                        gen.rays(&ws.pts, &mut ws.rays);
+                        for (k, &ray) in ws.rays.iter().enumerate() {
+                            let hit = if few {
+                                self.prepared.first_hit_in(
+                                    &ws.sorted,
+                                    &ray,
+                                    0.0,
+                                    f64::INFINITY,
+                                    &mut ws.s,
+                                )
+                            } else {
+                                self.prepared.first_hit(&ray, 0.0, f64::INFINITY, &mut ws.s)
+                            };
+                            if let Some(hit) = hit {
+                                ws.hits.push((k as u32, ray, hit));
                             }
                         }
                     }

@@ -41,12 +41,14 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError
         .map_err(|e| CliError::Runtime(format!("error: cannot start threads: {e}")))
 }
 
+/// Render into `frame` (its memory reused when it fits).
 fn render_frame(
     r: &Renderer,
     st: &Settings,
     pool: &rayon::ThreadPool,
     show_progress: bool,
-) -> Frame {
+    frame: &mut Frame,
+) {
     let bar = if show_progress && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         let b = indicatif::ProgressBar::new(st.height as u64);
         b.set_style(
@@ -64,11 +66,10 @@ fn render_frame(
             b.set_position(rows as u64);
         }
     };
-    let f = pool.install(|| r.render(st, &progress));
+    pool.install(|| r.render_into(st, frame, &progress));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    f
 }
 
 /// Parse `--background`: a grey level, R,G,B, or a picture file.
@@ -145,7 +146,8 @@ fn render(a: RenderArgs) -> Result<ExitCode, CliError> {
         samples: a.samples,
         aovs: aovs.0 || aovs.1 || aovs.2,
     };
-    let mut frame = render_frame(&r, &st, &pool, true);
+    let mut frame = Frame::new(st.width, st.height, st.aovs);
+    render_frame(&r, &st, &pool, true, &mut frame);
     if let Some(p) = &plate {
         for (i, px) in frame.rgb.iter_mut().enumerate() {
             let al = frame.alpha[i];
@@ -365,20 +367,20 @@ fn bench(a: BenchArgs) -> Result<ExitCode, CliError> {
             samples: 1,
             aovs: false,
         };
+        // The frame buffers are made once, outside the timing (as a film
+        // or an interactive view reuses them).
+        let mut frame = Frame::new(st.width, st.height, st.aovs);
         let mut times = Vec::new();
-        let mut frame = None;
         for _ in 0..a.repeat.max(1) {
             let t = Instant::now();
-            frame = Some(render_frame(&r, &st, &pool, false));
+            render_frame(&r, &st, &pool, false, &mut frame);
             times.push(t.elapsed().as_secs_f64());
         }
         times.sort_by(f64::total_cmp);
         let med = times[times.len() / 2];
         let rays = (w as f64) * (h as f64);
         let per_core = rays / med / threads as f64 / 1e6;
-        let cover = frame.map_or(0.0, |f| {
-            f.alpha.iter().filter(|a| **a > 0.0).count() as f64 / rays
-        });
+        let cover = frame.alpha.iter().filter(|a| **a > 0.0).count() as f64 / rays;
         let name = sc
             .as_ref()
             .map_or("helicopter (bundled)".into(), |p| p.display().to_string());

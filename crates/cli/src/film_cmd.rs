@@ -103,6 +103,9 @@ pub fn film(a: FilmArgs) -> Result<ExitCode, CliError> {
         aovs: false,
     };
     let srgb = a.srgb;
+    // Frame buffers, reused from frame to frame (frames render side by
+    // side, so each takes one from the pile and puts it back).
+    let spare: std::sync::Mutex<Vec<sv_render::Frame>> = std::sync::Mutex::new(Vec::new());
     let start = Instant::now();
     let report = pool.install(|| {
         make_film(
@@ -111,11 +114,14 @@ pub fn film(a: FilmArgs) -> Result<ExitCode, CliError> {
             |frame| {
                 let scene = film.scene_at(frame);
                 let (r, _) = Renderer::new(&scene, w as f64 / h as f64)?;
-                let f = r.render(&st, &|_| {});
+                let taken = spare.lock().unwrap_or_else(|e| e.into_inner()).pop();
+                let mut f = taken.unwrap_or_else(|| sv_render::Frame::new(w, h, false));
+                r.render_into(&st, &mut f, &|_| {});
                 let mut img = image::RgbImage::new(w, h);
                 for (px, c) in img.pixels_mut().zip(&f.rgb) {
                     px.0 = c.map(|v| code(v, srgb));
                 }
+                spare.lock().unwrap_or_else(|e| e.into_inner()).push(f);
                 Ok(img)
             },
             |done, _| {

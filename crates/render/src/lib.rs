@@ -251,8 +251,23 @@ impl Renderer {
     /// Render the picture. `progress` is called with the number of rows
     /// finished so far, from any thread.
     pub fn render(&self, st: &Settings, progress: &(dyn Fn(usize) + Sync)) -> Frame {
-        let (w, h) = (st.width as usize, st.height as usize);
         let mut frame = Frame::new(st.width, st.height, st.aovs);
+        self.render_into(st, &mut frame, progress);
+        frame
+    }
+
+    /// As [`Renderer::render`], into `frame`: its memory is reused when it
+    /// already has the size (and the auxiliary images) asked for, and every
+    /// pixel is written.
+    pub fn render_into(&self, st: &Settings, frame: &mut Frame, progress: &(dyn Fn(usize) + Sync)) {
+        let (w, h) = (st.width as usize, st.height as usize);
+        if frame.width != st.width
+            || frame.height != st.height
+            || frame.rgb.len() != w * h
+            || frame.region.len() != if st.aovs { w * h } else { 0 }
+        {
+            *frame = Frame::new(st.width, st.height, st.aovs);
+        }
         let gen = self.camera.rays(st.width, st.height);
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
@@ -398,16 +413,19 @@ impl Renderer {
                     let s = &mut guard.s;
                     for x in 0..w {
                         let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
-                        if let Some(hit) = self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
-                            region[x] = hit.region + 1;
-                            depth[x] = hit.t as f32;
-                            normal[x] = self.prepared.normal(&hit, &ray).as_vec3().to_array();
-                        }
+                        (region[x], depth[x], normal[x]) =
+                            match self.prepared.first_hit(&ray, 0.0, f64::INFINITY, s) {
+                                Some(hit) => (
+                                    hit.region + 1,
+                                    hit.t as f32,
+                                    self.prepared.normal(&hit, &ray).as_vec3().to_array(),
+                                ),
+                                None => (0, f32::INFINITY, [0.0; 3]),
+                            };
                     }
                 });
         }
         debug_assert_eq!(frame.rgb.len(), w * h);
-        frame
     }
 
     /// Trace one primary ray: the hit and its shaded intensity.

@@ -362,3 +362,31 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
     .0;
     assert_eq!(brute.render(&st, &|_| {}), one);
 }
+
+#[test]
+fn a_reused_frame_holds_exactly_the_new_picture() {
+    let st = Settings {
+        width: 40,
+        height: 30,
+        shadows: true,
+        samples: 1,
+        aovs: true,
+    };
+    let (first, _) = Renderer::new(&crowded(), 4.0 / 3.0).unwrap();
+    let (second, _) = Renderer::new(&figure1_like(), 4.0 / 3.0).unwrap();
+    let mut frame = first.render(&st, &|_| {});
+    second.render_into(&st, &mut frame, &|_| {});
+    let fresh = second.render(&st, &|_| {});
+    assert_eq!(frame, fresh);
+    // Background is left where the crowded scene had geometry.
+    assert!(fresh.region.iter().any(|&r| r == 0));
+    // A frame of another size is remade.
+    let small = Settings {
+        width: 8,
+        height: 6,
+        aovs: false,
+        ..st
+    };
+    second.render_into(&small, &mut frame, &|_| {});
+    assert_eq!(frame, second.render(&small, &|_| {}));
+}

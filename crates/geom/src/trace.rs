@@ -635,8 +635,8 @@ impl Frustum {
             );
             let v = n.dot(p);
             // Rounding slack: rule a box out only when clearly outside.
-            // (NaN compares false and keeps the box.)
-            !(v < d - slack - 1e-9 * v.abs())
+            // (A NaN compares as unordered and keeps the box.)
+            v.partial_cmp(&(d - slack - 1e-9 * v.abs())) != Some(std::cmp::Ordering::Less)
         })
     }
 }

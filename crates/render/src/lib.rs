@@ -377,13 +377,12 @@ impl Renderer {
                             let mut acc = [0.0f64; 3];
                             let mut cover = 0.0;
                             for _ in 0..n * n {
+                                // Shaded in place: no copy of the ray and hit.
                                 let c = match ws.hits.get(next) {
-                                    Some(&(kk, ray, hit)) if kk == k => {
+                                    Some((kk, ray, hit)) if *kk == k => {
                                         next += 1;
                                         cover += 1.0;
-                                        self.shade_with(
-                                            &ray, &hit, st.shadows, &ws.shadow, &mut ws.s,
-                                        )
+                                        self.shade_with(ray, hit, st.shadows, &ws.shadow, &mut ws.s)
                                     }
                                     _ => self.background,
                                 };

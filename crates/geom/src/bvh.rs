@@ -7,7 +7,7 @@
 //! rays"; Wald et al. 2008, "Getting rid of packets"): each node holds the
 //! boxes of up to four children side by side, one array per coordinate, so
 //! the four slab tests run as one vector loop, and a ray visits about half
-//! as many nodes. The binary tree stays for the frustum and swept-box
+//! as many nodes. The binary tree stays for the frustum and box
 //! queries, which walk it from the top.
 
 use sv_math::{Aabb, Ray};

@@ -426,7 +426,7 @@ impl Prepared {
     }
 
     /// As [`Prepared::occluded`], looking only at `zones` (from
-    /// [`Prepared::swept_zones`] for a bundle of shadow rays): the same
+    /// [`Prepared::zones_in_box`] for a bundle of shadow rays): the same
     /// answer for any ray of the bundle.
     pub fn occluded_in(
         &self,
@@ -461,40 +461,14 @@ impl Prepared {
         })
     }
 
-    /// The opaque zones whose bounds the box `from`, swept along `dir` for
-    /// `t >= 0`, may meet (with `dir` = `None`: the zones meeting `from`
-    /// itself). A shadow ray toward a parallel light from any point of
-    /// `from` can only meet these; so can one toward a point light when
-    /// `from` holds both the points and the light. Gives up past `max`.
-    pub fn swept_zones(
-        &self,
-        from: &Aabb,
-        dir: Option<DVec3>,
-        max: usize,
-        out: &mut Vec<u32>,
-    ) -> bool {
-        let h = from.size() * 0.5 + DVec3::splat(self.tol);
-        let c = from.center();
+    /// The opaque zones whose bounds meet the box `from`. A shadow ray
+    /// toward a point light from any point of `from` can only meet these
+    /// when `from` holds both the points and the light. Gives up past
+    /// `max`. (Shadow rays toward parallel lights use a
+    /// [`crate::LightBuffer`].)
+    pub fn zones_in_box(&self, from: &Aabb, max: usize, out: &mut Vec<u32>) -> bool {
         let near = from.padded(self.tol);
-        self.zones_meeting(max, out, |b| match dir {
-            // The swept box meets `b` exactly when the ray from its centre
-            // meets `b` grown by its half-size.
-            Some(d) => {
-                let grown = Aabb::new(b.min - h, b.max + h);
-                hits(
-                    &grown,
-                    &Ray {
-                        origin: c,
-                        dir: d,
-                        inv_dir: d.recip(),
-                    },
-                    0.0,
-                    f64::INFINITY,
-                )
-                .is_some()
-            }
-            None => !b.intersection(&near).is_empty(),
-        })
+        self.zones_meeting(max, out, |b| !b.intersection(&near).is_empty())
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,

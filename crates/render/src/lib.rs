@@ -358,9 +358,8 @@ impl Renderer {
                             let ok = match l.kind {
                                 // Served by the light buffer.
                                 LightKind::Parallel { .. } => false,
-                                LightKind::Point { pos, .. } => self.prepared.swept_zones(
+                                LightKind::Point { pos, .. } => self.prepared.zones_in_box(
                                     &from.including(pos),
-                                    None,
                                     MAX_SHADOW_ZONES,
                                     v,
                                 ),

@@ -250,7 +250,7 @@ fn serial_parallel_and_brute_force_renders_are_bit_identical() {
 /// A lattice of 9 × 9 × 6 spheres, every other one pierced by a cylinder,
 /// seen in perspective from a corner: tiles meet hundreds of zones, so the
 /// rays walk the hierarchy, the shadow rays toward the sun use its light
-/// buffer and those toward the lamp the swept zone lists.
+/// buffer and those toward the lamp the per-tile zone lists.
 fn crowded() -> Scene {
     let mut s = Scene::default();
     let mut props = vec![];

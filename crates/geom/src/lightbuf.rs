@@ -263,8 +263,14 @@ fn project(b: &Aabb, u: DVec3, v: DVec3, pad: f64) -> [f64; 4] {
 
 impl Prepared {
     /// As [`Prepared::occluded`] for a shadow ray along the direction of
-    /// `lb` (a ray from [`LightBuffer::shadow_ray`]): the same
-    /// answer, looking only at the zones of the ray origin's cell.
+    /// `lb` (a ray from [`LightBuffer::shadow_ray`]): the same answer,
+    /// looking only at the zones of the ray origin's cell.
+    ///
+    /// `last` is the light buffer's shadow cache: the zone that blocked the
+    /// previous shadow ray (`None` if it was not blocked). Neighbouring
+    /// points are mostly shadowed by the same zone, so it is tried first;
+    /// the answer does not depend on it.
+    #[allow(clippy::too_many_arguments)]
     pub fn occluded_along(
         &self,
         lb: &LightBuffer,
@@ -272,6 +278,7 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         skip: Option<u32>,
+        last: &mut Option<u32>,
         s: &mut Scratch,
     ) -> bool {
         debug_assert!((ray.dir - lb.dir).length() < 1e-12);
@@ -280,9 +287,16 @@ impl Prepared {
             return self.occluded(ray, tmin, tmax, skip, s);
         };
         s.new_ray();
-        self.any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
-            || self.any_opaque(big, skip, ray, tmin, tmax, s)
-            || self.any_opaque(cell, skip, ray, tmin, tmax, s)
+        if let Some(z) = *last {
+            if self.any_opaque(&[z], skip, ray, tmin, tmax, s).is_some() {
+                return true;
+            }
+        }
+        *last = self
+            .any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
+            .or_else(|| self.any_opaque(big, skip, ray, tmin, tmax, s))
+            .or_else(|| self.any_opaque(cell, skip, ray, tmin, tmax, s));
+        last.is_some()
     }
 }
 
@@ -346,6 +360,7 @@ mod tests {
         .enumerate()
         {
             let lb = LightBuffer::new(&p, to_light);
+            let mut last = None;
             // Origins on a lattice through and around the spheres.
             for a in 0..40 {
                 for b in 0..40 {
@@ -358,7 +373,15 @@ mod tests {
                         let ray = lb.shadow_ray(o);
                         assert_eq!(ray, Ray::new(o, to_light));
                         let want = p.occluded(&ray, 1e-6, f64::INFINITY, None, &mut s);
-                        let got = p.occluded_along(&lb, &ray, 1e-6, f64::INFINITY, None, &mut s);
+                        let got = p.occluded_along(
+                            &lb,
+                            &ray,
+                            1e-6,
+                            f64::INFINITY,
+                            None,
+                            &mut last,
+                            &mut s,
+                        );
                         assert_eq!(got, want, "origin {o:?} toward {to_light:?}");
                         met += usize::from(want);
                     }

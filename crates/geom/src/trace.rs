@@ -438,10 +438,10 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         s.new_ray();
-        self.any_opaque(zones, skip, ray, tmin, tmax, s)
+        self.any_opaque(zones, skip, ray, tmin, tmax, s).is_some()
     }
 
-    /// True when one of `zones` (other than `skip`) lies on the ray within
+    /// The first of `zones` (other than `skip`) found on the ray within
     /// `(tmin, tmax)`. The body cache is the caller's: `s.new_ray()` first
     /// for a new ray.
     pub(crate) fn any_opaque(
@@ -452,8 +452,8 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
-    ) -> bool {
-        zones.iter().any(|&zi| {
+    ) -> Option<u32> {
+        zones.iter().copied().find(|&zi| {
             let z = &self.zones[zi as usize];
             Some(zi) != skip
                 && hits(&z.bounds, ray, tmin, tmax).is_some()

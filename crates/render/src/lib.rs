@@ -56,6 +56,7 @@ impl<'a> Workspace<'a> {
             hits: Vec::new(),
             shadow: Occluders {
                 buffers,
+                last: vec![None; lights],
                 sets: vec![None; lights],
             },
         }
@@ -68,6 +69,8 @@ impl<'a> Workspace<'a> {
 #[derive(Default)]
 struct Occluders<'a> {
     buffers: &'a [Option<LightBuffer>],
+    /// Per light with a buffer, the zone that blocked the last shadow ray.
+    last: Vec<Option<u32>>,
     sets: Vec<Option<Vec<u32>>>,
 }
 
@@ -176,7 +179,7 @@ impl Renderer {
 
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
-        self.shade_with(ray, hit, shadows, &Occluders::default(), s)
+        self.shade_with(ray, hit, shadows, &mut Occluders::default(), s)
     }
 
     /// The light buffers of the parallel lights (`None` for other lights).
@@ -198,7 +201,7 @@ impl Renderer {
         ray: &Ray,
         hit: &Hit,
         shadows: bool,
-        occ: &Occluders<'_>,
+        occ: &mut Occluders<'_>,
         s: &mut Scratch,
     ) -> [f64; 3] {
         let p = ray.at(hit.t);
@@ -227,7 +230,7 @@ impl Renderer {
                 let blocked = if let Some(lb) = lb {
                     let shadow = lb.shadow_ray(p);
                     self.prepared
-                        .occluded_along(lb, &shadow, eps, dist, skip, s)
+                        .occluded_along(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
                 } else if let Some(zones) = occ.sets.get(li).and_then(Option::as_ref) {
                     let shadow = Ray::new(p, to_light);
                     self.prepared
@@ -381,7 +384,13 @@ impl Renderer {
                                     Some((kk, ray, hit)) if *kk == k => {
                                         next += 1;
                                         cover += 1.0;
-                                        self.shade_with(ray, hit, st.shadows, &ws.shadow, &mut ws.s)
+                                        self.shade_with(
+                                            ray,
+                                            hit,
+                                            st.shadows,
+                                            &mut ws.shadow,
+                                            &mut ws.s,
+                                        )
                                     }
                                     _ => self.background,
                                 };

@@ -223,28 +223,32 @@ fn serial_parallel_and_brute_force_renders_are_bit_identical() {
         samples: 2,
         aovs: true,
     };
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
+    let one = on_threads(&r, &st, 1);
+    assert_eq!(on_threads(&r, &st, 2), one);
+    assert_eq!(brute_force(&scene, 1.0).render(&st, &|_| {}), one);
+}
+
+/// Render with `threads` worker threads.
+fn on_threads(r: &Renderer, st: &Settings, threads: usize) -> sv_render::Frame {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| r.render(&st, &|_| {}));
-    let two = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap()
-        .install(|| r.render(&st, &|_| {}));
-    assert_eq!(one, two);
-    let brute = Renderer::with_options(
-        &scene,
-        1.0,
+        .install(|| r.render(st, &|_| {}))
+}
+
+/// `scene` prepared without hierarchy: every zone is tried by every ray.
+fn brute_force(scene: &Scene, aspect: f64) -> Renderer {
+    Renderer::with_options(
+        scene,
+        aspect,
         sv_geom::PrepareOptions {
             brute_force: true,
             ..Default::default()
         },
     )
     .unwrap()
-    .0;
-    assert_eq!(brute.render(&st, &|_| {}), one);
+    .0
 }
 
 /// A lattice of 9 × 9 × 6 spheres, every other one pierced by a cylinder,
@@ -327,15 +331,8 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
         samples: 1,
         aovs: true,
     };
-    let on = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| r.render(&st, &|_| {}))
-    };
-    let one = on(1);
-    assert_eq!(on(2), one);
+    let one = on_threads(&r, &st, 1);
+    assert_eq!(on_threads(&r, &st, 2), one);
     // The picture is worth comparing: mostly spheres, many in shadow.
     let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
     assert!(cover > one.alpha.len() / 2, "coverage {cover}");
@@ -350,17 +347,7 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
         .filter(|&i| one.rgb[i] != unshadowed.rgb[i])
         .count();
     assert!(shaded > one.rgb.len() / 10, "{shaded} pixels in shadow");
-    let brute = Renderer::with_options(
-        &scene,
-        4.0 / 3.0,
-        sv_geom::PrepareOptions {
-            brute_force: true,
-            ..Default::default()
-        },
-    )
-    .unwrap()
-    .0;
-    assert_eq!(brute.render(&st, &|_| {}), one);
+    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
 }
 
 #[test]

@@ -1,0 +1,118 @@
+//! The real decks render the same, bit for bit, with the acceleration
+//! structures (hierarchy, tile lists, light buffer, shadow cache) and
+//! without them, in sunlight and under a lamp, on 1 and 2 threads.
+
+use std::path::{Path, PathBuf};
+use sv_formats::{load_file, LoadOptions};
+use sv_geom::PrepareOptions;
+use sv_render::{Frame, Renderer, Settings};
+use sv_scene::{Light, LightKind};
+
+fn decks() -> Vec<PathBuf> {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks");
+    let mut files = Vec::new();
+    for (dir, ext) in [("comgeom", "cg"), ("fluka/pyg4ometry-testdata", "inp")] {
+        let Ok(rd) = std::fs::read_dir(shared.join(dir)) else {
+            continue;
+        };
+        files.extend(
+            rd.map(|e| e.unwrap().path())
+                .filter(|p| p.extension().is_some_and(|e| e == ext)),
+        );
+    }
+    files.sort();
+    files
+}
+
+fn render(r: &Renderer, threads: usize) -> Frame {
+    let st = Settings {
+        width: 64,
+        height: 48,
+        shadows: true,
+        samples: 1,
+        aovs: true,
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| r.render(&st, &|_| {}))
+}
+
+/// Pixels whose colour, coverage or auxiliary values differ.
+fn differing(a: &Frame, b: &Frame) -> usize {
+    (0..a.rgb.len())
+        .filter(|&i| {
+            a.rgb[i] != b.rgb[i]
+                || a.alpha[i] != b.alpha[i]
+                || a.region[i] != b.region[i]
+                || a.depth[i] != b.depth[i]
+                || a.normal[i] != b.normal[i]
+        })
+        .count()
+}
+
+#[test]
+fn every_deck_renders_the_same_with_and_without_acceleration() {
+    let files = decks();
+    if files.is_empty() {
+        eprintln!("skipped: the shared decks are not present");
+        return;
+    }
+    let mut compared = 0;
+    for f in &files {
+        // The fragment file of the FLUKA set is not a whole input.
+        let Ok(loaded) = load_file(f, &LoadOptions::default()) else {
+            continue;
+        };
+        let mut scene = loaded.scene;
+        scene.show_air_if_nothing_else();
+        let Ok((fast, _)) = Renderer::new(&scene, 4.0 / 3.0) else {
+            continue;
+        };
+        // The same camera for both, and a lamp beside the sun.
+        scene.camera = Some(fast.camera);
+        // The model's diagonal is 1e7 times the tolerance.
+        let diagonal = fast.prepared.tolerance() * 1e7;
+        let lamp = fast.camera.eye + fast.camera.up.normalize() * 0.2 * diagonal;
+        scene.lights = vec![
+            fast.lights[0].clone(),
+            Light {
+                name: "LAMP".into(),
+                kind: LightKind::Point {
+                    pos: lamp,
+                    decay: 0.0,
+                },
+                intensity: 0.4,
+                colour: [1.0; 3],
+            },
+        ];
+        let (fast, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+        let (slow, _) = Renderer::with_options(
+            &scene,
+            4.0 / 3.0,
+            PrepareOptions {
+                brute_force: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let one = render(&fast, 1);
+        let two = render(&fast, 2);
+        assert!(
+            two == one,
+            "{}: 1 and 2 threads differ in {} pixels",
+            f.display(),
+            differing(&one, &two)
+        );
+        let brute = render(&slow, 1);
+        assert!(
+            brute == one,
+            "{}: with and without acceleration, {} pixels differ",
+            f.display(),
+            differing(&one, &brute)
+        );
+        compared += 1;
+    }
+    assert!(compared >= 80, "only {compared} decks compared");
+}

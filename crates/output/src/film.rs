@@ -458,6 +458,40 @@ pub fn gif_delays(frames: usize, fps: f64) -> Vec<u16> {
         .collect()
 }
 
+/// Frames sampled to learn a film's GIF palette.
+const GIF_PALETTE_FRAMES: usize = 12;
+
+/// A 256-colour palette (NeuQuant, Dekker 1994) with a lookup table from
+/// colours at 6 bits per channel to palette entries.
+struct Palette {
+    rgb: Vec<u8>,
+    lut: Vec<u8>,
+}
+
+impl Palette {
+    /// Learn the palette of RGBA `pixels`.
+    fn learn(pixels: &[u8]) -> Palette {
+        let nq = color_quant::NeuQuant::new(10, 256, pixels);
+        let lut = (0..1usize << 18)
+            .map(|c| {
+                // The centre of the 6-bit cell.
+                let ch = |shift: usize| (((c >> shift) & 63) * 4 + 2) as u8;
+                nq.index_of(&[ch(12), ch(6), ch(0), 255]) as u8
+            })
+            .collect();
+        Palette {
+            rgb: nq.color_map_rgb(),
+            lut,
+        }
+    }
+
+    /// The palette entry for an RGBA pixel.
+    fn index(&self, p: [u8; 4]) -> u8 {
+        let c = (p[0] as usize >> 2) << 12 | (p[1] as usize >> 2) << 6 | p[2] as usize >> 2;
+        self.lut[c]
+    }
+}
+
 fn write_gif(
     dir: &Path,
     total: usize,
@@ -479,29 +513,41 @@ fn write_gif(
         path: out.to_owned(),
         message: e.to_string(),
     };
+    let sized = |f: usize| -> Result<image::RgbaImage, FilmError> {
+        let img = read_frame(dir, f)?;
+        Ok(if img.dimensions() != (w, h) {
+            image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle)
+        } else {
+            img
+        })
+    };
+    // One palette for the whole film, learnt from frames spread over it:
+    // one quantisation instead of one per frame, and no colour flicker
+    // from frame to frame.
+    let samples: Vec<usize> = (0..GIF_PALETTE_FRAMES.min(total))
+        .map(|i| i * total / GIF_PALETTE_FRAMES.min(total))
+        .collect();
+    let mut pixels = Vec::new();
+    for img in samples.par_iter().map(|&f| sized(f)).collect::<Vec<_>>() {
+        pixels.extend_from_slice(img?.as_raw());
+    }
+    let palette = Palette::learn(&pixels);
     let mut failure: Option<FilmError> = None;
     let r = write_atomically(out, |wr| {
         let run = || -> Result<(), FilmError> {
-            let mut enc = gif::Encoder::new(wr, w as u16, h as u16, &[]).map_err(gif_err)?;
+            let mut enc =
+                gif::Encoder::new(wr, w as u16, h as u16, &palette.rgb).map_err(gif_err)?;
             enc.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
-            // Quantise a batch of frames in parallel, write them in order.
+            // Map a batch of frames in parallel, write them in order.
             let frames: Vec<usize> = (0..total).collect();
             for batch in frames.chunks(16) {
                 let encoded: Vec<Result<gif::Frame<'static>, FilmError>> = batch
                     .par_iter()
                     .map(|&f| {
-                        let mut img = read_frame(dir, f)?;
-                        if img.dimensions() != (w, h) {
-                            img = image::imageops::resize(
-                                &img,
-                                w,
-                                h,
-                                image::imageops::FilterType::Triangle,
-                            );
-                        }
-                        let mut raw = img.into_raw();
+                        let img = sized(f)?;
+                        let idx: Vec<u8> = img.pixels().map(|p| palette.index(p.0)).collect();
                         let mut frame =
-                            gif::Frame::from_rgba_speed(w as u16, h as u16, &mut raw, 10);
+                            gif::Frame::from_indexed_pixels(w as u16, h as u16, idx, None);
                         frame.delay = delays[f];
                         Ok(frame)
                     })

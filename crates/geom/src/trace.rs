@@ -110,22 +110,7 @@ impl Prepared {
     fn load_body(&self, b: u32, ray: &Ray, s: &mut Scratch, flip: bool) {
         let (a, e) = self.body_segs(b, ray, s, false);
         s.body.clear();
-        for g in &s.segs[a..e] {
-            s.body.push(Span {
-                a: Bound {
-                    t: g.t0,
-                    body: b,
-                    face: g.f0,
-                    flip,
-                },
-                b: Bound {
-                    t: g.t1,
-                    body: b,
-                    face: g.f1,
-                    flip,
-                },
-            });
-        }
+        s.body.extend(spans(&s.segs[a..e], b, flip));
     }
 
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
@@ -160,25 +145,7 @@ impl Prepared {
                     return false;
                 }
                 if i == 0 {
-                    let segs = &s.segs[a..e];
-                    s.cur.extend(
-                        segs.iter()
-                            .map(|g| Span {
-                                a: Bound {
-                                    t: g.t0,
-                                    body: b,
-                                    face: g.f0,
-                                    flip: false,
-                                },
-                                b: Bound {
-                                    t: g.t1,
-                                    body: b,
-                                    face: g.f1,
-                                    flip: false,
-                                },
-                            })
-                            .filter(keep),
-                    );
+                    s.cur.extend(spans(&s.segs[a..e], b, false).filter(keep));
                 } else {
                     self.load_body(b, ray, s, false);
                     intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
@@ -387,31 +354,18 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         s.new_ray();
-        for &zi in &self.unbounded_opaque {
-            let z = &self.zones[zi as usize];
-            if Some(zi) != skip
-                && hits(&z.bounds, ray, tmin, tmax).is_some()
-                && self.zone_spans(z, ray, tmin, tmax, s)
-            {
-                return true;
-            }
+        if self
+            .any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
+            .is_some()
+        {
+            return true;
         }
         let mut limit = tmax;
         let mut found = false;
-        self.bvh_opaque
-            .traverse(ray, tmin, &mut limit, |items, limit| {
-                for &zi in items {
-                    let z = &self.zones[zi as usize];
-                    if Some(zi) != skip
-                        && hits(&z.bounds, ray, tmin, *limit).is_some()
-                        && self.zone_spans(z, ray, tmin, *limit, s)
-                    {
-                        found = true;
-                        return true;
-                    }
-                }
-                false
-            });
+        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, _| {
+            found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
+            found
+        });
         found
     }
 
@@ -567,6 +521,24 @@ impl Prepared {
             n
         }
     }
+}
+
+/// A body's segments as spans bounded by its faces (`flip`: subtracted).
+fn spans(segs: &[Seg], body: u32, flip: bool) -> impl Iterator<Item = Span> + '_ {
+    segs.iter().map(move |g| Span {
+        a: Bound {
+            t: g.t0,
+            body,
+            face: g.f0,
+            flip,
+        },
+        b: Bound {
+            t: g.t1,
+            body,
+            face: g.f1,
+            flip,
+        },
+    })
 }
 
 /// The volume swept by a bundle of rays (a tile of pixels): the

@@ -275,6 +275,10 @@ impl Renderer {
         let n = st.samples.max(1);
         let done = AtomicUsize::new(0);
         let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
+        let point_lights = self
+            .lights
+            .iter()
+            .any(|l| matches!(l.kind, LightKind::Point { .. }));
         let buffers = if st.shadows {
             self.light_buffers()
         } else {
@@ -352,23 +356,23 @@ impl Renderer {
                             }
                         }
                     }
-                    // Then, per light, the zones the tile's shadow rays may
-                    // meet: they start in the box of the tile's hit points.
-                    if st.shadows && !ws.hits.is_empty() {
+                    // Then, per point light, the zones the tile's shadow
+                    // rays may meet: those in the box of the tile's hit
+                    // points and the light. (Parallel lights have their
+                    // light buffers.)
+                    if st.shadows && !ws.hits.is_empty() && point_lights {
                         let from = Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
                         for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
-                            let v = set.get_or_insert_with(Vec::new);
-                            let ok = match l.kind {
-                                // Served by the light buffer.
-                                LightKind::Parallel { .. } => false,
-                                LightKind::Point { pos, .. } => self.prepared.zones_in_box(
+                            if let LightKind::Point { pos, .. } = l.kind {
+                                let v = set.get_or_insert_with(Vec::new);
+                                let few = self.prepared.zones_in_box(
                                     &from.including(pos),
                                     MAX_SHADOW_ZONES,
                                     v,
-                                ),
-                            };
-                            if !ok {
-                                *set = None;
+                                );
+                                if !few {
+                                    *set = None;
+                                }
                             }
                         }
                     }

@@ -40,6 +40,15 @@ struct WideNode {
     child: [Child; 4],
 }
 
+impl WideNode {
+    /// No children.
+    const EMPTY: WideNode = WideNode {
+        lo: [[f64::INFINITY; 4]; 3],
+        hi: [[f64::NEG_INFINITY; 4]; 3],
+        child: [Child::None; 4],
+    };
+}
+
 /// A child of a wide node: an interior node (its index), a leaf (`count`
 /// items from `first`), or nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,23 +83,10 @@ impl Bvh {
         });
         bvh.split(0, &mut refs, 0);
         bvh.items = refs.iter().map(|r| r.0).collect();
+        // The root goes first; `widen` pushes the nodes below it.
         bvh.wide.reserve(bvh.nodes.len() / 2 + 1);
-        let root = bvh.widen(0);
-        bvh.wide.insert(0, root);
-        // `widen` pushes children before their parent; the root now sits
-        // first, so every child index moves up by one.
-        for n in &mut bvh.wide[1..] {
-            for c in &mut n.child {
-                if let Child::Node(i) = c {
-                    *i += 1;
-                }
-            }
-        }
-        for c in &mut bvh.wide[0].child {
-            if let Child::Node(i) = c {
-                *i += 1;
-            }
-        }
+        bvh.wide.push(WideNode::EMPTY);
+        bvh.wide[0] = bvh.widen(0);
         bvh
     }
 
@@ -121,11 +117,7 @@ impl Bvh {
             kids[i] = f;
             kids.insert(i + 1, f + 1);
         }
-        let mut w = WideNode {
-            lo: [[f64::INFINITY; 4]; 3],
-            hi: [[f64::NEG_INFINITY; 4]; 3],
-            child: [Child::None; 4],
-        };
+        let mut w = WideNode::EMPTY;
         for (slot, &k) in kids.iter().enumerate() {
             let kn = self.nodes[k];
             for axis in 0..3 {

@@ -98,9 +98,9 @@ impl LightBuffer {
             return lb;
         }
         lb.origin = (ext[0], ext[1]);
-        // About sixteen cells per zone (at least 64 × 64), shaped like the
+        // About four cells per zone (at least 64 × 64), shaped like the
         // extent.
-        let mut cells = (16 * rects.len()).clamp(4096, MAX_CELLS) as f64;
+        let mut cells = (4 * rects.len()).clamp(4096, MAX_CELLS) as f64;
         loop {
             let aspect = (wu / wv.max(f64::MIN_POSITIVE)).clamp(1e-3, 1e3);
             let nu = ((cells * aspect).sqrt().round() as usize).clamp(1, 4096);

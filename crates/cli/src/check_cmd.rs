@@ -2,7 +2,7 @@
 //! overlap painting of `render --overlaps`.
 
 use crate::args::InputArgs;
-use crate::load::{input, load, parse_size, parse_vec3, CliError};
+use crate::load::{input, load, parse_numbers, parse_size, parse_vec3, CliError};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -188,11 +188,7 @@ pub fn check(a: CheckArgs) -> Result<ExitCode, CliError> {
                     "--box: expected six numbers X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, found `{t}`"
                 ))
             };
-            let v: Vec<f64> = t
-                .split(',')
-                .map(|x| x.trim().parse::<f64>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| bad())?;
+            let v = parse_numbers(t).ok_or_else(bad)?;
             if v.len() != 6
                 || v.iter().any(|x| !x.is_finite())
                 || v[0] >= v[3]
@@ -271,11 +267,7 @@ fn parse_extent(s: &str) -> Result<(f64, f64), CliError> {
             "--extent: expected W or W,H (positive numbers), found `{s}`"
         ))
     };
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad())?;
+    let v = parse_numbers(s).ok_or_else(bad)?;
     let (w, h) = match v.as_slice() {
         [w] => (*w, *w),
         [w, h] => (*w, *h),

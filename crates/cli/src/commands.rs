@@ -1,5 +1,5 @@
 use crate::args::{BenchArgs, Cli, Command, ConvertArgs, InfoArgs, RenderArgs, ShootArgs};
-use crate::load::{input, load, parse_vec3, renderer, size, CliError};
+use crate::load::{input, load, parse_numbers, parse_vec3, renderer, size, CliError};
 use clap::Parser;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -79,10 +79,9 @@ enum Backdrop {
 }
 
 fn backdrop(s: &str) -> Backdrop {
-    let nums: Result<Vec<f64>, _> = s.split(',').map(|x| x.trim().parse::<f64>()).collect();
-    match nums {
-        Ok(v) if v.len() == 1 => Backdrop::Colour([v[0]; 3]),
-        Ok(v) if v.len() == 3 => Backdrop::Colour([v[0], v[1], v[2]]),
+    match parse_numbers(s) {
+        Some(v) if v.len() == 1 => Backdrop::Colour([v[0]; 3]),
+        Some(v) if v.len() == 3 => Backdrop::Colour([v[0], v[1], v[2]]),
         _ => Backdrop::Plate(PathBuf::from(s)),
     }
 }

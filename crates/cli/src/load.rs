@@ -145,17 +145,19 @@ pub fn load(path: Option<&Path>, a: &InputArgs) -> Result<Scene, CliError> {
 
 /// Three comma-separated numbers, for the option named `what`.
 pub fn parse_vec3(s: &str, what: &str) -> Result<DVec3, CliError> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| input(format!("{what}: expected X,Y,Z, found `{s}`")))?;
+    let v =
+        parse_numbers(s).ok_or_else(|| input(format!("{what}: expected X,Y,Z, found `{s}`")))?;
     if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
         return Err(input(format!(
             "{what}: expected three numbers X,Y,Z, found `{s}`"
         )));
     }
     Ok(DVec3::new(v[0], v[1], v[2]))
+}
+
+/// Comma-separated numbers (`None` if any is not a number).
+pub fn parse_numbers(s: &str) -> Option<Vec<f64>> {
+    s.split(',').map(|x| x.trim().parse::<f64>().ok()).collect()
 }
 
 /// A raster size `WxH` given to `--size`, each side from 1 to `max`.

@@ -709,6 +709,18 @@ fn reference_points(b: &sv_geom::Body) -> Vec<DVec3> {
     out
 }
 
+/// Call `f` on every change of the script, inside TOGETHER and REPEAT too.
+fn each_change(steps: &[Step], f: &mut dyn FnMut(&Change)) {
+    for s in steps {
+        match s {
+            Step::Change(t) => f(&t.change),
+            Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
+            Step::Shoot(_) => {}
+            Step::Repeat(_, body) => each_change(body, f),
+        }
+    }
+}
+
 fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
     let n = spec.objects.len();
     let mut bad = |what: &'static str, index: usize, len: usize| {
@@ -729,19 +741,9 @@ fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
             bad("object", o, n);
         }
     }
-    fn walk(steps: &[Step], f: &mut dyn FnMut(&Change)) {
-        for s in steps {
-            match s {
-                Step::Change(t) => f(&t.change),
-                Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
-                Step::Shoot(_) => {}
-                Step::Repeat(_, body) => walk(body, f),
-            }
-        }
-    }
     let na = spec.axes.len();
     let nl = base.lights.len();
-    walk(&spec.steps, &mut |c| {
+    each_change(&spec.steps, &mut |c| {
         let target = |t: Target, bad: &mut dyn FnMut(&'static str, usize, usize)| match t {
             Target::Object(o) => bad("object", o, n),
             Target::Light(l) => bad("light", l, nl),
@@ -789,17 +791,7 @@ fn collect_moved(steps: &[Step], out: &mut Vec<usize>) {
         | Change::Spin { object: o, .. } => out.push(o),
         _ => {}
     };
-    fn walk(steps: &[Step], f: &mut dyn FnMut(&Change)) {
-        for s in steps {
-            match s {
-                Step::Change(t) => f(&t.change),
-                Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
-                Step::Shoot(_) => {}
-                Step::Repeat(_, body) => walk(body, f),
-            }
-        }
-    }
-    walk(steps, &mut one);
+    each_change(steps, &mut one);
 }
 
 struct TooLong;

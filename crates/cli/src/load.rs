@@ -196,7 +196,7 @@ pub fn renderer(scene: &Scene, view: &ViewArgs, w: u32, h: u32) -> Result<Render
     if reframe || (view.eye.is_some() || view.at.is_some()) {
         let mut cam = if reframe || scene.camera.is_none() {
             default_camera(
-                &r.prepared,
+                r.prepared(),
                 aspect,
                 view.az.unwrap_or(35.0),
                 view.el.unwrap_or(25.0),

@@ -73,7 +73,7 @@ fn every_deck_renders_the_same_with_and_without_acceleration() {
         // The same camera for both, and a lamp beside the sun.
         scene.camera = Some(fast.camera);
         // The model's diagonal is 1e7 times the tolerance.
-        let diagonal = fast.prepared.tolerance() * 1e7;
+        let diagonal = fast.prepared().tolerance() * 1e7;
         let lamp = fast.camera.eye + fast.camera.up.normalize() * 0.2 * diagonal;
         scene.lights = vec![
             fast.lights[0].clone(),

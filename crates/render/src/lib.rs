@@ -19,7 +19,7 @@ pub use view::{default_camera, default_lights, frame_bounds};
 
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use sv_geom::{
     Frustum, Hit, LightBuffer, PrepareError, PrepareOptions, Prepared, Scratch, Warning,
 };
@@ -38,9 +38,9 @@ struct Workspace<'a> {
     /// The raster positions of the tile's primary rays, and the rays.
     pts: Vec<[f64; 2]>,
     rays: Vec<Ray>,
-    /// The tile's primary rays that hit, with their sample number in the
-    /// tile (rays that miss are not kept).
-    hits: Vec<(u32, Ray, Hit)>,
+    /// The tile's primary rays that hit: their sample number in the tile
+    /// (an index into `rays`) and the hit. Rays that miss are not kept.
+    hits: Vec<(u32, Hit)>,
     /// The zones the tile's shadow rays may meet.
     shadow: Occluders<'a>,
 }
@@ -111,8 +111,9 @@ impl Default for Settings {
 /// A scene ready to render: prepared geometry, camera, lights and looks.
 #[derive(Clone, Debug)]
 pub struct Renderer {
-    /// The prepared geometry.
-    pub prepared: Prepared,
+    /// The prepared geometry (fixed for the renderer's life: the light
+    /// buffers kept between renders are made from it).
+    prepared: Prepared,
     /// Camera in use (the scene's or the default framing).
     pub camera: Camera,
     /// Lights in use (the scene's or the default light).
@@ -120,6 +121,22 @@ pub struct Renderer {
     ambient: f64,
     background: [f64; 3],
     looks: Vec<(f64, [f64; 3])>,
+    buffers: BufferCache,
+}
+
+/// The light buffers of the last render with shadows, with the light
+/// directions they were made for. A render whose parallel lights shine
+/// the same way reuses them: the geometry cannot change under a
+/// [`Renderer`], so only the directions need comparing.
+#[derive(Clone, Debug, Default)]
+struct BufferCache(Arc<Mutex<Option<LightBuffers>>>);
+
+/// Light buffers (`None` for point lights) and the directions, per light,
+/// that they were made for.
+#[derive(Debug)]
+struct LightBuffers {
+    dirs: Vec<Option<DVec3>>,
+    buffers: Arc<[Option<LightBuffer>]>,
 }
 
 impl Renderer {
@@ -161,9 +178,15 @@ impl Renderer {
                 ambient: scene.ambient,
                 background,
                 looks,
+                buffers: BufferCache::default(),
             },
             warnings,
         ))
+    }
+
+    /// The prepared geometry.
+    pub fn prepared(&self) -> &Prepared {
+        &self.prepared
     }
 
     /// Set the ambient intensity A₀.
@@ -182,17 +205,31 @@ impl Renderer {
         self.shade_with(ray, hit, shadows, &mut Occluders::default(), s)
     }
 
-    /// The light buffers of the parallel lights (`None` for other lights).
-    fn light_buffers(&self) -> Vec<Option<LightBuffer>> {
-        self.lights
+    /// The light buffers of the parallel lights (`None` for other lights):
+    /// those of the last render when its lights shone the same ways, else
+    /// new ones (kept for the next render).
+    fn light_buffers(&self) -> Arc<[Option<LightBuffer>]> {
+        let dirs: Vec<Option<DVec3>> = self
+            .lights
             .iter()
             .map(|l| match l.kind {
-                LightKind::Parallel { dir } => {
-                    Some(LightBuffer::new(&self.prepared, -dir.normalize()))
-                }
+                LightKind::Parallel { dir } => Some(dir),
                 LightKind::Point { .. } => None,
             })
-            .collect()
+            .collect();
+        let mut kept = self.buffers.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(k) = kept.as_ref().filter(|k| k.dirs == dirs) {
+            return k.buffers.clone();
+        }
+        let buffers: Arc<[Option<LightBuffer>]> = dirs
+            .iter()
+            .map(|d| d.map(|dir| LightBuffer::new(&self.prepared, -dir.normalize())))
+            .collect();
+        *kept = Some(LightBuffers {
+            dirs,
+            buffers: buffers.clone(),
+        });
+        buffers
     }
 
     /// [`Renderer::shade`], with the occluders that shadow rays may meet.
@@ -282,7 +319,7 @@ impl Renderer {
         let buffers = if st.shadows {
             self.light_buffers()
         } else {
-            Vec::new()
+            Arc::from([])
         };
         // One working memory per worker thread, made once: a `Scratch` is
         // sized by the body count, too big to make for every piece of work.
@@ -352,7 +389,7 @@ impl Renderer {
                                 self.prepared.first_hit(&ray, 0.0, f64::INFINITY, &mut ws.s)
                             };
                             if let Some(hit) = hit {
-                                ws.hits.push((k as u32, ray, hit));
+                                ws.hits.push((k as u32, hit));
                             }
                         }
                     }
@@ -361,7 +398,9 @@ impl Renderer {
                     // points and the light. (Parallel lights have their
                     // light buffers.)
                     if st.shadows && !ws.hits.is_empty() && point_lights {
-                        let from = Aabb::from_points(ws.hits.iter().map(|(_, r, h)| r.at(h.t)));
+                        let from = Aabb::from_points(
+                            ws.hits.iter().map(|(k, h)| ws.rays[*k as usize].at(h.t)),
+                        );
                         for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
                             if let LightKind::Point { pos, .. } = l.kind {
                                 let v = set.get_or_insert_with(Vec::new);
@@ -385,11 +424,11 @@ impl Renderer {
                             for _ in 0..n * n {
                                 // Shaded in place: no copy of the ray and hit.
                                 let c = match ws.hits.get(next) {
-                                    Some((kk, ray, hit)) if *kk == k => {
+                                    Some((kk, hit)) if *kk == k => {
                                         next += 1;
                                         cover += 1.0;
                                         self.shade_with(
-                                            ray,
+                                            &ws.rays[k as usize],
                                             hit,
                                             st.shadows,
                                             &mut ws.shadow,

@@ -377,3 +377,34 @@ fn a_reused_frame_holds_exactly_the_new_picture() {
     second.render_into(&small, &mut frame, &|_| {});
     assert_eq!(frame, second.render(&small, &|_| {}));
 }
+
+#[test]
+fn turning_the_sun_between_renders_moves_the_shadows() {
+    // The light buffers of one render are kept for the next: they must be
+    // remade when a parallel light turns, and only then.
+    let st = Settings {
+        width: 48,
+        height: 36,
+        shadows: true,
+        samples: 1,
+        aovs: false,
+    };
+    let scene = crowded();
+    let (mut r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    let first = r.render(&st, &|_| {});
+    assert_eq!(r.render(&st, &|_| {}), first, "same lights, same picture");
+    let LightKind::Parallel { dir } = r.lights[0].kind else {
+        panic!("the crowded scene has a sun first");
+    };
+    let turned = DVec3::new(dir.y, -dir.x, dir.z);
+    r.lights[0].kind = LightKind::Parallel { dir: turned };
+    let again = r.render(&st, &|_| {});
+    let mut moved = scene.clone();
+    moved.lights[0].kind = LightKind::Parallel { dir: turned };
+    let (fresh, _) = Renderer::new(&moved, 4.0 / 3.0).unwrap();
+    assert_eq!(again, fresh.render(&st, &|_| {}));
+    let changed = (0..first.rgb.len())
+        .filter(|&i| first.rgb[i] != again.rgb[i])
+        .count();
+    assert!(changed > first.rgb.len() / 20, "{changed} pixels changed");
+}

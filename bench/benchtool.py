@@ -6,7 +6,7 @@
       One POV-Ray run as CSV: POV-Ray's own statistics from its render log
       (trace time, pixels, shadow tests) and `/usr/bin/time -v` figures.
   benchtool.py ours-header
-  benchtool.py ours-row SCENE < JSON lines from `synthavision bench --json`
+  benchtool.py ours-row SCENE [REP] < JSON lines from `synthavision bench --json`
   benchtool.py ppmdiff A.ppm B.ppm R,G,B
       Coverage of two pictures (pixels differing from the background) and
       how many pixels differ, for checking that both programs trace the
@@ -22,7 +22,7 @@ import statistics
 import sys
 
 POV_HEADER = "scene,threads,shadows,rep,width,height,wall_s,maxrss_kb,parse_s,trace_s,pixels,shadow_tests,load1"
-OURS_HEADER = "scene,threads,shadows,width,height,reps,median_s,min_s,max_s,mrays_per_s_per_core,coverage,load1"
+OURS_HEADER = "scene,threads,shadows,width,height,reps,median_s,min_s,max_s,mrays_per_s_per_core,coverage,load1,rep"
 
 
 def find(pattern, text, default="0"):
@@ -64,7 +64,7 @@ def pov_row(argv):
 
 
 def ours_row(argv):
-    (scene,) = argv
+    scene, rep = argv[0], (argv[1] if len(argv) > 1 else "")
     n = 0
     for line in sys.stdin:
         line = line.strip()
@@ -74,7 +74,7 @@ def ours_row(argv):
         t = sorted(j["times_s"])
         print(",".join(str(x) for x in [
             scene, j["threads"], int(bool(j["shadows"])), j["width"], j["height"], len(t),
-            j["median_s"], t[0], t[-1], j["mrays_per_s_per_core"], j.get("coverage", ""), load1()]))
+            j["median_s"], t[0], t[-1], j["mrays_per_s_per_core"], j.get("coverage", ""), load1(), rep]))
         n += 1
     if n == 0:
         sys.stderr.write("benchtool: no JSON line from synthavision bench\n")
@@ -159,9 +159,28 @@ def pov_rate(rows, best=False):
     return tr, px / tr / t / 1e6
 
 
-def ours_best(o):
-    """Our primary Mrays/s per core from the fastest render."""
-    return int(o["width"]) * int(o["height"]) / float(o["min_s"]) / int(o["threads"]) / 1e6
+def ours_rate(o, best=False):
+    """Our primary Mrays/s per core from one `bench` process: its median
+    render, or its fastest."""
+    t = float(o["min_s"] if best else o["median_s"])
+    return int(o["width"]) * int(o["height"]) / t / int(o["threads"]) / 1e6
+
+
+def ours_rates(rows, best=False):
+    """Over the processes of one configuration: the median of their median
+    rates, or the fastest render of all."""
+    if best:
+        return max(ours_rate(o, True) for o in rows)
+    return statistics.median(ours_rate(o) for o in rows)
+
+
+def paired_ratio(ours, pov):
+    """The median over repetitions of (our rate / POV-Ray's rate), each
+    pair taken one right after the other: a slow spell of the machine
+    then slows both sides of a pair alike."""
+    mine = {o["rep"]: ours_rate(o) for o in ours if o.get("rep")}
+    ratios = [mine[r["rep"]] / pov_rate([r])[1] for r in pov if r["rep"] in mine]
+    return statistics.median(ratios) if ratios else None
 
 
 def fmt(x, nd=2):
@@ -170,8 +189,7 @@ def fmt(x, nd=2):
 
 def side_by_side(res, part, baseline, out):
     pov = group(load_csv(os.path.join(res, f"pov_{part}.csv")), ["scene", "threads", "shadows"])
-    ours = {(r["scene"], r["threads"], r["shadows"]): r
-            for r in load_csv(os.path.join(res, f"ours_{part}.csv"))}
+    ours = group(load_csv(os.path.join(res, f"ours_{part}.csv")), ["scene", "threads", "shadows"])
     base = {}
     if baseline:
         for r in load_csv(os.path.join(baseline, f"summary_{part}.csv")):
@@ -179,30 +197,34 @@ def side_by_side(res, part, baseline, out):
     base_name = {"figure1": "seed_fig1", "helicopter": "helicopter21", "many": "many", "big_union": "big_union"}
     if not ours:
         return
-    any_r = next(iter(ours.values()))
+    any_r = next(iter(ours.values()))[0]
     out.append(f"\n### {any_r['width']}×{any_r['height']}, one ray per pixel\n")
-    out.append("Mrays/s per core (ours) and per thread (POV-Ray, from its trace time): the median run and the best run.\n")
-    out.append("| scene | threads | shadows | ours, median | POV-Ray, median | ratio | ours, best | POV-Ray, best | ratio | POV-Ray baseline (shared/bench/povray) | runs ours/POV | load (1-min avg) |")
-    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    out.append("Mrays/s per core (ours) and per thread (POV-Ray, from its trace time): the median run and the best run. "
+               "The runs of the two programs alternate; \"paired\" is the median over the repetitions of the ratio "
+               "of two runs taken one right after the other.\n")
+    out.append("| scene | threads | shadows | ours, median | POV-Ray, median | ratio | ours, best | POV-Ray, best | ratio | paired | POV-Ray baseline (shared/bench/povray) | runs ours/POV | load (1-min avg) |")
+    out.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for key, o in ours.items():
         s, t, sh = key
         p = pov.get(key)
         pr = pov_rate(p)[1] if p else None
         pb = pov_rate(p, best=True)[1] if p else None
-        ours_r, ob = float(o["mrays_per_s_per_core"]), ours_best(o)
+        ours_r, ob = ours_rates(o), ours_rates(o, best=True)
+        pair = paired_ratio(o, p) if p else None
         b = base.get((base_name.get(s, s), t, sh))
-        loads = [float(o["load1"])] + ([float(r["load1"]) for r in p] if p else [])
+        loads = [float(r["load1"]) for r in o] + ([float(r["load1"]) for r in p] if p else [])
+        runs = sum(int(r["reps"]) for r in o)
         out.append(f"| {s} | {t} | {'on' if sh == '1' else 'off'} | {ours_r:.2f} | {fmt(pr)} | "
                    f"{fmt(ours_r / pr if pr else None, 1)}× | {ob:.2f} | {fmt(pb)} | {fmt(ob / pb if pb else None, 1)}× | "
-                   f"{fmt(b)} | {o['reps']}/{len(p) if p else 0} | {min(loads):.1f}–{max(loads):.1f} |")
+                   f"{fmt(pair, 1)}× | {fmt(b)} | {runs}/{len(p) if p else 0} | {min(loads):.1f}–{max(loads):.1f} |")
     # Parallel efficiency: total rate at 2 threads over 1 thread.
     lines = []
     for s in sorted({k[0] for k in ours}):
         for sh in ("0", "1"):
             o1, o2 = ours.get((s, "1", sh)), ours.get((s, "2", sh))
             p1, p2 = pov.get((s, "1", sh)), pov.get((s, "2", sh))
-            so = 2 * float(o2["mrays_per_s_per_core"]) / float(o1["mrays_per_s_per_core"]) if o1 and o2 else None
-            sob = 2 * ours_best(o2) / ours_best(o1) if o1 and o2 else None
+            so = 2 * ours_rates(o2) / ours_rates(o1) if o1 and o2 else None
+            sob = 2 * ours_rates(o2, True) / ours_rates(o1, True) if o1 and o2 else None
             sp = pov_rate(p1)[0] / pov_rate(p2)[0] if p1 and p2 else None
             spb = pov_rate(p1, True)[0] / pov_rate(p2, True)[0] if p1 and p2 else None
             if so or sp:

@@ -369,6 +369,10 @@ fn bench(a: BenchArgs) -> Result<ExitCode, CliError> {
         // The frame buffers are made once, outside the timing (as a film
         // or an interactive view reuses them).
         let mut frame = Frame::new(st.width, st.height, st.aovs);
+        // Fresh zeroed memory is mapped page by page on first write, which
+        // would be timed with the first render: write it all now.
+        frame.rgb.fill([0.0; 3]);
+        frame.alpha.fill(0.0);
         let mut times = Vec::new();
         for _ in 0..a.repeat.max(1) {
             let t = Instant::now();

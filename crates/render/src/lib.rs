@@ -310,6 +310,9 @@ impl Renderer {
         }
         let gen = self.camera.rays(st.width, st.height);
         let n = st.samples.max(1);
+        // Where a pixel's n × n samples lie in it, from its corner.
+        let offsets: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) / n as f64).collect();
+        let inv = 1.0 / (n * n) as f64;
         let done = AtomicUsize::new(0);
         let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
         let point_lights = self
@@ -364,12 +367,9 @@ impl Renderer {
                         for yy in 0..rows {
                             for x in x0..x1 {
                                 let (fx, fy) = (x as f64, (y0 + yy) as f64);
-                                for sy in 0..n {
-                                    for sx in 0..n {
-                                        ws.pts.push([
-                                            fx + (sx as f64 + 0.5) / n as f64,
-                                            fy + (sy as f64 + 0.5) / n as f64,
-                                        ]);
+                                for &oy in &offsets {
+                                    for &ox in &offsets {
+                                        ws.pts.push([fx + ox, fy + oy]);
                                     }
                                 }
                             }
@@ -442,7 +442,6 @@ impl Renderer {
                                     *a += v;
                                 }
                             }
-                            let inv = 1.0 / (n * n) as f64;
                             rgb[i] = acc.map(|v| (v * inv) as f32);
                             alpha[i] = (cover * inv) as f32;
                         }

@@ -339,6 +339,10 @@ impl Renderer {
             .par_chunks_mut(w * TILE)
             .zip(frame.alpha.par_chunks_mut(w * TILE))
             .enumerate()
+            // Every band a piece of work of its own: bands differ widely in
+            // cost (the model fills the middle of the picture), and a
+            // worker that runs out can then take any band not yet begun.
+            .with_max_len(1)
             .for_each(|(band, (rgb, alpha))| {
                 let mut guard = mine();
                 let ws = &mut *guard;

@@ -142,8 +142,11 @@ for part in $PARTS; do
     for n in $SIZES; do
       s=big_union_$n
       echo "   $s" >&2
-      for sh in 0 1; do ours "$RES/ours_S.csv" "$s" 1 "$sh" "$REPS" 960x720; done
-      for rep in $(seq 1 "$REPS"); do pov "$RES/pov_S.csv" S "$s" 1 0 "$rep" 960 720 -F; done
+      # Taking turns, as in parts A and B.
+      for rep in $(seq 1 "$REPS"); do
+        pov "$RES/pov_S.csv" S "$s" 1 0 "$rep" 960 720 -F
+        for sh in 0 1; do ours "$RES/ours_S.csv" "$s" 1 "$sh" 5 960x720 "$rep"; done
+      done
     done
     python3 - "$RES" <<'PY'
 import csv, statistics, sys, os
@@ -154,10 +157,12 @@ out = open(os.path.join(res, "scaling.csv"), "w")
 out.write("bodies,coverage,ours_ns_off,ours_ns_on,pov_ns_off\n")
 for n in dict.fromkeys(r["scene"] for r in ours):
     ns, cov = {}, ""
-    for r in ours:
-        if r["scene"] == n:
-            ns[r["shadows"]] = float(r["median_s"]) * 1e9 / (int(r["width"]) * int(r["height"]))
-            cov = r["coverage"]
+    for sh in ("0", "1"):
+        rows = [r for r in ours if r["scene"] == n and r["shadows"] == sh]
+        if rows:
+            t = statistics.median(float(r["median_s"]) for r in rows)
+            ns[sh] = t * 1e9 / (int(rows[0]["width"]) * int(rows[0]["height"]))
+            cov = rows[0]["coverage"]
     p = [r for r in pov if r["scene"] == n]
     pn = statistics.median(float(r["trace_s"]) for r in p) * 1e9 / float(p[0]["pixels"]) if p else ""
     out.write(f"{n.split('_')[-1]},{cov},{ns.get('0', '')},{ns.get('1', '')},{pn}\n")

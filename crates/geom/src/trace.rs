@@ -107,10 +107,10 @@ impl Prepared {
         (a as usize, e as usize)
     }
 
-    fn load_body(&self, b: u32, ray: &Ray, s: &mut Scratch, flip: bool) {
-        let (a, e) = self.body_segs(b, ray, s, false);
+    /// Body `b`'s spans, from its segments `s.segs[a..e]`, into `s.body`.
+    fn load_body(b: u32, (a, e): (usize, usize), s: &mut Scratch) {
         s.body.clear();
-        s.body.extend(spans(&s.segs[a..e], b, flip));
+        s.body.extend(spans(&s.segs[a..e], b, false));
     }
 
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
@@ -147,7 +147,7 @@ impl Prepared {
                 if i == 0 {
                     s.cur.extend(spans(&s.segs[a..e], b, false).filter(keep));
                 } else {
-                    self.load_body(b, ray, s, false);
+                    Self::load_body(b, (a, e), s);
                     intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
                     std::mem::swap(&mut s.cur, &mut s.tmp);
                 }
@@ -166,7 +166,7 @@ impl Prepared {
             if a == e || s.segs[a].t0 >= last || s.segs[e - 1].t1 <= first {
                 continue;
             }
-            self.load_body(b, ray, s, false);
+            Self::load_body(b, (a, e), s);
             subtract(&s.cur, &s.body, &mut s.tmp, self.tol);
             std::mem::swap(&mut s.cur, &mut s.tmp);
             if s.cur.is_empty() {

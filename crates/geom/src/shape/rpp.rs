@@ -16,39 +16,25 @@ impl Rpp {
 
     #[inline]
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
-        let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
-        let (mut f0, mut f1) = (0u32, 0u32);
-        for a in 0..3 {
-            let (o, d) = (ray.origin[a], ray.dir[a]);
-            if d == 0.0 {
-                // Parallel: inside the slab or a miss (the boundary counts
-                // as outside, as for the general polyhedron's `dist < 0`).
-                if o < self.b.min[a] || o > self.b.max[a] {
-                    return;
-                }
-                continue;
-            }
-            let inv = ray.inv_dir[a];
-            let (lo, hi) = ((self.b.min[a] - o) * inv, (self.b.max[a] - o) * inv);
-            let (near, far, fn_, ff) = if d > 0.0 {
-                (lo, hi, 2 * a as u32, 2 * a as u32 + 1)
-            } else {
-                (hi, lo, 2 * a as u32 + 1, 2 * a as u32)
-            };
-            if near > t0 {
-                t0 = near;
-                f0 = fn_;
-            }
-            if far < t1 {
-                t1 = far;
-                f1 = ff;
-            }
-            if t0 > t1 {
-                return;
-            }
-        }
-        if t0 < t1 {
-            out.push(Seg { t0, t1, f0, f1 });
+        let (o, d, inv, b) = (ray.origin, ray.dir, ray.inv_dir, &self.b);
+        let mut c = Clip {
+            t0: f64::NEG_INFINITY,
+            t1: f64::INFINITY,
+            f0: 0,
+            f1: 0,
+        };
+        // Axis by axis, written out: no indexing in the hot loop.
+        if c.slab(o.x, d.x, inv.x, b.min.x, b.max.x, 0)
+            && c.slab(o.y, d.y, inv.y, b.min.y, b.max.y, 2)
+            && c.slab(o.z, d.z, inv.z, b.min.z, b.max.z, 4)
+            && c.t0 < c.t1
+        {
+            out.push(Seg {
+                t0: c.t0,
+                t1: c.t1,
+                f0: c.f0,
+                f1: c.f1,
+            });
         }
     }
 
@@ -64,5 +50,43 @@ impl Rpp {
 
     pub(crate) fn bounds(&self) -> Aabb {
         self.b
+    }
+}
+
+/// The stretch of the ray inside the slabs seen so far, with the faces
+/// that bound it.
+struct Clip {
+    t0: f64,
+    t1: f64,
+    f0: u32,
+    f1: u32,
+}
+
+impl Clip {
+    /// Narrow to the slab `lo <= x <= hi` of one axis (origin `o`,
+    /// direction `d`, `inv = 1/d`), whose faces are `face` (low side) and
+    /// `face + 1`. False when the ray misses: either it runs parallel
+    /// outside the slab (the boundary counts as outside, as for the general
+    /// polyhedron's `dist < 0`) or the stretch is empty.
+    #[inline(always)]
+    fn slab(&mut self, o: f64, d: f64, inv: f64, lo: f64, hi: f64, face: u32) -> bool {
+        if d == 0.0 {
+            return !(o < lo || o > hi);
+        }
+        let (a, b) = ((lo - o) * inv, (hi - o) * inv);
+        let (near, far, fn_, ff) = if d > 0.0 {
+            (a, b, face, face + 1)
+        } else {
+            (b, a, face + 1, face)
+        };
+        if near > self.t0 {
+            self.t0 = near;
+            self.f0 = fn_;
+        }
+        if far < self.t1 {
+            self.t1 = far;
+            self.f1 = ff;
+        }
+        self.t0 <= self.t1
     }
 }

@@ -254,7 +254,7 @@ impl Prepared {
             // Rounding slack keeps the bound a bound.
             (near - 1e-9 * (near.abs() + base.abs()), zi)
         }));
-        out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     }
 
     /// Test one zone for the first hit, keeping the best so far: the lowest

@@ -12,8 +12,9 @@ use sv_math::{Aabb, DVec3, Ray};
 #[derive(Clone, Debug)]
 pub struct Scratch {
     ray_id: u32,
-    stamp: Vec<u32>,
-    range: Vec<(u32, u32)>,
+    /// Per body: the ray it was last cast along and its segments' range in
+    /// `segs` for that ray (one cache line holds all three).
+    cache: Vec<[u32; 3]>,
     segs: Vec<Seg>,
     cur: Vec<Span>,
     tmp: Vec<Span>,
@@ -26,8 +27,7 @@ impl Scratch {
     pub fn new(p: &Prepared) -> Scratch {
         Scratch {
             ray_id: 0,
-            stamp: vec![0; p.shapes.len()],
-            range: vec![(0, 0); p.shapes.len()],
+            cache: vec![[0; 3]; p.shapes.len()],
             segs: Vec::with_capacity(64),
             cur: Vec::with_capacity(16),
             tmp: Vec::with_capacity(16),
@@ -40,7 +40,7 @@ impl Scratch {
     pub(crate) fn new_ray(&mut self) {
         self.ray_id = self.ray_id.wrapping_add(1);
         if self.ray_id == 0 {
-            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.cache.iter_mut().for_each(|c| c[0] = 0);
             self.ray_id = 1;
         }
         self.segs.clear();
@@ -92,7 +92,8 @@ impl Prepared {
     #[inline]
     fn body_segs(&self, b: u32, ray: &Ray, s: &mut Scratch, boxed: bool) -> (usize, usize) {
         let bi = b as usize;
-        if s.stamp[bi] != s.ray_id {
+        let c = s.cache[bi];
+        if c[0] != s.ray_id {
             let start = s.segs.len();
             // The (padded) bounds reject most misses for the price of a
             // box test.
@@ -100,11 +101,11 @@ impl Prepared {
             {
                 self.shapes[bi].shoot(ray, &mut s.segs);
             }
-            s.stamp[bi] = s.ray_id;
-            s.range[bi] = (start as u32, s.segs.len() as u32);
+            let end = s.segs.len();
+            s.cache[bi] = [s.ray_id, start as u32, end as u32];
+            return (start, end);
         }
-        let (a, e) = s.range[bi];
-        (a as usize, e as usize)
+        (c[1] as usize, c[2] as usize)
     }
 
     /// Body `b`'s spans, from its segments `s.segs[a..e]`, into `s.body`.

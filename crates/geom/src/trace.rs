@@ -13,7 +13,8 @@ use sv_math::{Aabb, DVec3, Ray};
 pub struct Scratch {
     ray_id: u32,
     /// Per body: the ray it was last cast along and its segments' range in
-    /// `segs` for that ray (one cache line holds all three).
+    /// `segs` for that ray, side by side so that one look-up finds all
+    /// three.
     cache: Vec<[u32; 3]>,
     segs: Vec<Seg>,
     cur: Vec<Span>,

@@ -426,6 +426,8 @@ impl Renderer {
                     if n == 1 {
                         // One ray a pixel: the colour as shaded, without the
                         // sums below (which would give the same values).
+                        // Sharing the shading call with the loop below
+                        // through a closure costs 4 % more instructions.
                         for yy in 0..rows {
                             for x in x0..x1 {
                                 let i = yy * w + x;

@@ -66,8 +66,9 @@ impl Clip {
     /// Narrow to the slab `lo <= x <= hi` of one axis (origin `o`,
     /// direction `d`, `inv = 1/d`), whose faces are `face` (low side) and
     /// `face + 1`. False when the ray misses: either it runs parallel
-    /// outside the slab (the boundary counts as outside, as for the general
-    /// polyhedron's `dist < 0`) or the stretch is empty.
+    /// outside the slab (a ray in a face's plane counts as inside, as in
+    /// the general polyhedron, which misses only when `dist < 0`) or the
+    /// stretch is empty.
     #[inline(always)]
     fn slab(&mut self, o: f64, d: f64, inv: f64, lo: f64, hi: f64, face: u32) -> bool {
         if d == 0.0 {

@@ -112,7 +112,7 @@ impl Prepared {
     /// Body `b`'s spans, from its segments `s.segs[a..e]`, into `s.body`.
     fn load_body(b: u32, (a, e): (usize, usize), s: &mut Scratch) {
         s.body.clear();
-        s.body.extend(spans(&s.segs[a..e], b, false));
+        s.body.extend(spans(&s.segs[a..e], b));
     }
 
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
@@ -147,7 +147,7 @@ impl Prepared {
                     return false;
                 }
                 if i == 0 {
-                    s.cur.extend(spans(&s.segs[a..e], b, false).filter(keep));
+                    s.cur.extend(spans(&s.segs[a..e], b).filter(keep));
                 } else {
                     Self::load_body(b, (a, e), s);
                     intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
@@ -525,20 +525,21 @@ impl Prepared {
     }
 }
 
-/// A body's segments as spans bounded by its faces (`flip`: subtracted).
-fn spans(segs: &[Seg], body: u32, flip: bool) -> impl Iterator<Item = Span> + '_ {
+/// A body's segments as spans bounded by its faces (not flipped:
+/// `subtract` flips the bounds it takes from a subtracted body).
+fn spans(segs: &[Seg], body: u32) -> impl Iterator<Item = Span> + '_ {
     segs.iter().map(move |g| Span {
         a: Bound {
             t: g.t0,
             body,
             face: g.f0,
-            flip,
+            flip: false,
         },
         b: Bound {
             t: g.t1,
             body,
             face: g.f1,
-            flip,
+            flip: false,
         },
     })
 }

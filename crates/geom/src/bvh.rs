@@ -269,8 +269,18 @@ impl Bvh {
                             m += 1;
                         }
                     }
-                    let order = &mut order[..m];
-                    order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+                    // Farthest first: an insertion sort of at most four,
+                    // cheaper here than the library's sort.
+                    for i in 1..m {
+                        let x = order[i];
+                        let mut j = i;
+                        while j > 0 && order[j - 1].0 < x.0 {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = x;
+                    }
+                    let order = &order[..m];
                     if sp + m > stack.len() {
                         // Deeper than any tree built here: finish by
                         // visiting what is left in turn.

@@ -251,10 +251,12 @@ fn brute_force(scene: &Scene, aspect: f64) -> Renderer {
     .0
 }
 
-/// A lattice of 9 × 9 × 6 spheres, every other one pierced by a cylinder,
-/// seen in perspective from a corner: tiles meet hundreds of zones, so the
-/// rays walk the hierarchy, the shadow rays toward the sun use its light
-/// buffer and those toward the lamp the per-tile zone lists.
+/// A lattice of 9 × 9 × 6 spheres (486 zones), every other one pierced by
+/// a cylinder, seen in perspective from a corner: at 96 × 72 a tile meets
+/// up to about a hundred zones and its rays walk the tile's list; in one
+/// tile of 16 × 12 pixels it meets them all, more than a tile lists, and
+/// the rays walk the hierarchy. The shadow rays toward the sun use its
+/// light buffer and those toward the lamp the per-tile zone lists.
 fn crowded() -> Scene {
     let mut s = Scene::default();
     let mut props = vec![];
@@ -347,6 +349,26 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
         .filter(|&i| one.rgb[i] != unshadowed.rgb[i])
         .count();
     assert!(shaded > one.rgb.len() / 10, "{shaded} pixels in shadow");
+    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
+}
+
+#[test]
+fn a_tile_too_crowded_to_list_renders_the_same_through_the_hierarchy() {
+    // One tile for the whole lattice: more zones than a tile lists, so
+    // every primary ray walks the hierarchy.
+    let scene = crowded();
+    let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    let st = Settings {
+        width: 16,
+        height: 12,
+        shadows: true,
+        samples: 1,
+        aovs: true,
+    };
+    let one = on_threads(&r, &st, 1);
+    let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
+    assert!(cover > one.alpha.len() / 2, "coverage {cover}");
+    assert_eq!(on_threads(&r, &st, 2), one);
     assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
 }
 

@@ -13,9 +13,11 @@ the vertical one: vfov = 2 atan(tan(hfov / 2) * H / W). POV-Ray's
 Sun(<a, b, c>) shines from that direction, so the light travels along
 -(a, c, b) in our coordinates.
 
-Usage: gen_scenes.py [OUTDIR] [--sizes 100,1000,10000,100000]
+Usage: gen_scenes.py [OUTDIR] [--sizes 100,1000,10000,100000] [--crowds]
 Writes OUTDIR/many.sv and OUTDIR/big_union_N.sv (big_union.sv for
-N = 10000, the baseline's size). OUTDIR defaults to examples/bench.
+N = 10000, the baseline's size); with --crowds also crowd_sparse.sv and
+crowd_far.sv (100,000 spheres: tiles crowded past their zone lists).
+OUTDIR defaults to examples/bench.
 """
 import math
 import os
@@ -90,17 +92,18 @@ def many():
     return "\n".join(head + body + [""] + reg + tail)
 
 
-def big_union(nsph):
+def big_union(nsph, shrink=1.0, eye=(24, 18, -30), hfov=57, what=""):
     """One region: the union (OR) of `nsph` random spheres in a 20^3 cube,
-    radii 0.25 to 0.45 (big_union.pov)."""
+    radii 0.25 to 0.45 (big_union.pov), divided by `shrink`; seen from
+    `eye` (POV-Ray coordinates) with horizontal field `hfov`."""
     head, tail = common(
-        f"big_union: one region, the union of {nsph} random spheres (after big_union.pov)",
-        (24, 18, -30), (0, -1.0, 0), 57, (0.8, 1.6, -0.6))
+        f"big_union: one region, the union of {nsph} random spheres{what} (after big_union.pov)",
+        eye, (0, -1.0, 0), hfov, (0.8, 1.6, -0.6))
     rnd = random.Random(4242)
     body = []
     for n in range(nsph):
         c = (20 * rnd.random() - 10, 20 * rnd.random() - 10, 20 * rnd.random() - 10)
-        r = 0.25 + 0.2 * rnd.random()
+        r = (0.25 + 0.2 * rnd.random()) / shrink
         body.append(f"BODY s{n} SPH {vec(pov_to_ours(c))} {fmt(r)}")
     region = "REGION all = " + " OR ".join(f"+s{n}" for n in range(nsph)) + " K 0.85"
     return "\n".join(head + body + ["", region] + tail)
@@ -114,6 +117,9 @@ def main(argv):
         i = args.index("--sizes")
         sizes = [int(s) for s in args[i + 1].split(",")]
         del args[i:i + 2]
+    crowds = "--crowds" in args
+    if crowds:
+        args.remove("--crowds")
     if args:
         out = args[0]
     os.makedirs(out, exist_ok=True)
@@ -125,6 +131,13 @@ def main(argv):
     put("many.sv", many())
     for n in sizes:
         put("big_union.sv" if n == 10000 else f"big_union_{n}.sv", big_union(n))
+    if crowds:
+        # Crowded tiles: the 100,000 spheres 20 times smaller (most rays
+        # slip between them), and the full-size ones from 30 times as far
+        # (a speck in the picture: most rays of its tiles pass it by).
+        put("crowd_sparse.sv", big_union(100000, shrink=20, what=", radii / 20"))
+        put("crowd_far.sv", big_union(100000, eye=(720, 540, -900), hfov=26,
+                                      what=", seen from 30 times as far"))
 
 
 if __name__ == "__main__":

@@ -322,22 +322,32 @@ fn crowded() -> Scene {
     s
 }
 
-#[test]
-fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy() {
+/// The crowded lattice rendered at `width` × `height` with shadows: checks
+/// that one thread, two threads and no hierarchy give the same picture, and
+/// that the lattice fills most of it; returns the renderer, the settings
+/// and the picture.
+fn crowded_the_same_every_way(width: u32, height: u32) -> (Renderer, Settings, sv_render::Frame) {
     let scene = crowded();
     let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
     let st = Settings {
-        width: 96,
-        height: 72,
+        width,
+        height,
         shadows: true,
         samples: 1,
         aovs: true,
     };
     let one = on_threads(&r, &st, 1);
     assert_eq!(on_threads(&r, &st, 2), one);
-    // The picture is worth comparing: mostly spheres, many in shadow.
+    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
     let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
     assert!(cover > one.alpha.len() / 2, "coverage {cover}");
+    (r, st, one)
+}
+
+#[test]
+fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy() {
+    let (r, st, one) = crowded_the_same_every_way(96, 72);
+    // The picture is worth comparing: many spheres are in shadow.
     let unshadowed = r.render(
         &Settings {
             shadows: false,
@@ -349,27 +359,13 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
         .filter(|&i| one.rgb[i] != unshadowed.rgb[i])
         .count();
     assert!(shaded > one.rgb.len() / 10, "{shaded} pixels in shadow");
-    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
 }
 
 #[test]
 fn a_tile_too_crowded_to_list_renders_the_same_through_the_hierarchy() {
     // One tile for the whole lattice: more zones than a tile lists, so
     // every primary ray walks the hierarchy.
-    let scene = crowded();
-    let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
-    let st = Settings {
-        width: 16,
-        height: 12,
-        shadows: true,
-        samples: 1,
-        aovs: true,
-    };
-    let one = on_threads(&r, &st, 1);
-    let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
-    assert!(cover > one.alpha.len() / 2, "coverage {cover}");
-    assert_eq!(on_threads(&r, &st, 2), one);
-    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
+    crowded_the_same_every_way(16, 12);
 }
 
 #[test]

@@ -21,7 +21,8 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use sv_geom::{
-    Frustum, Hit, LightBuffer, PrepareError, PrepareOptions, Prepared, Scratch, Warning,
+    Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared, Scratch,
+    Warning,
 };
 
 /// Above this many candidate zones a tile's shadow rays walk the hierarchy.
@@ -46,7 +47,7 @@ struct Workspace<'a> {
 }
 
 impl<'a> Workspace<'a> {
-    fn new(p: &Prepared, lights: usize, buffers: &'a [Option<LightBuffer>]) -> Workspace<'a> {
+    fn new(p: &Prepared, lights: usize, buffers: &'a [Buffer]) -> Workspace<'a> {
         Workspace {
             s: Scratch::new(p),
             cands: Vec::new(),
@@ -63,12 +64,12 @@ impl<'a> Workspace<'a> {
     }
 }
 
-/// Where shadow rays look for occluders, per light: its light buffer
-/// (parallel lights), else the zones that a tile's shadow rays may meet,
-/// else (`None` for both, or no entry) the whole hierarchy.
+/// Where shadow rays look for occluders, per light: a parallel light's
+/// buffer; for a point light, the zones that a tile's shadow rays may
+/// meet, else its buffer; else (no entry) the whole hierarchy.
 #[derive(Default)]
 struct Occluders<'a> {
-    buffers: &'a [Option<LightBuffer>],
+    buffers: &'a [Buffer],
     /// Per light with a buffer, the zone that blocked the last shadow ray.
     last: Vec<Option<u32>>,
     sets: Vec<Option<Vec<u32>>>,
@@ -131,19 +132,27 @@ pub struct Renderer {
     buffers: BufferCache,
 }
 
-/// The light buffers of the last render with shadows, with the light
-/// directions they were made for. A render whose parallel lights shine
-/// the same way reuses them: the geometry cannot change under a
-/// [`Renderer`], so only the directions need comparing.
+/// The light buffers of the last render with shadows, with the lights
+/// they were made for. A render whose lights shine the same ways from the
+/// same places reuses them: the geometry cannot change under a
+/// [`Renderer`], so only the lights need comparing.
 #[derive(Clone, Debug, Default)]
 struct BufferCache(Arc<Mutex<Option<LightBuffers>>>);
 
-/// Light buffers (`None` for point lights) and the directions, per light,
-/// that they were made for.
+/// Light buffers and the lights, per light, that they were made for.
 #[derive(Debug)]
 struct LightBuffers {
-    dirs: Vec<Option<DVec3>>,
-    buffers: Arc<[Option<LightBuffer>]>,
+    kinds: Vec<LightKind>,
+    buffers: Arc<[Buffer]>,
+}
+
+/// A light's buffer of the zones its shadow rays may meet.
+#[derive(Debug)]
+enum Buffer {
+    /// A parallel light's.
+    Parallel(LightBuffer),
+    /// A point light's.
+    Point(PointBuffer),
 }
 
 impl Renderer {
@@ -212,28 +221,27 @@ impl Renderer {
         self.shade_with(ray, hit, shadows, &mut Occluders::default(), s)
     }
 
-    /// The light buffers of the parallel lights (`None` for other lights):
-    /// those of the last render when its lights shone the same ways, else
-    /// new ones (kept for the next render).
-    fn light_buffers(&self) -> Arc<[Option<LightBuffer>]> {
-        let dirs: Vec<Option<DVec3>> = self
-            .lights
-            .iter()
-            .map(|l| match l.kind {
-                LightKind::Parallel { dir } => Some(dir),
-                LightKind::Point { .. } => None,
-            })
-            .collect();
+    /// The lights' buffers: those of the last render when its lights were
+    /// the same, else new ones (kept for the next render).
+    fn light_buffers(&self) -> Arc<[Buffer]> {
+        let kinds: Vec<LightKind> = self.lights.iter().map(|l| l.kind).collect();
         let mut kept = self.buffers.0.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(k) = kept.as_ref().filter(|k| k.dirs == dirs) {
+        if let Some(k) = kept.as_ref().filter(|k| k.kinds == kinds) {
             return k.buffers.clone();
         }
-        let buffers: Arc<[Option<LightBuffer>]> = dirs
+        let buffers: Arc<[Buffer]> = kinds
             .iter()
-            .map(|d| d.map(|dir| LightBuffer::new(&self.prepared, -dir.normalize())))
+            .map(|k| match *k {
+                LightKind::Parallel { dir } => {
+                    Buffer::Parallel(LightBuffer::new(&self.prepared, -dir.normalize()))
+                }
+                LightKind::Point { pos, .. } => {
+                    Buffer::Point(PointBuffer::new(&self.prepared, pos))
+                }
+            })
             .collect();
         *kept = Some(LightBuffers {
-            dirs,
+            kinds,
             buffers: buffers.clone(),
         });
         buffers
@@ -257,11 +265,13 @@ impl Renderer {
         let mut sum = [0.0; 3];
         let eps = 10.0 * self.prepared.tolerance();
         for (li, l) in self.lights.iter().enumerate() {
-            let lb = occ.buffers.get(li).and_then(Option::as_ref);
-            let (to_light, dist, fall) = match (l.kind, lb) {
+            let buffer = occ.buffers.get(li);
+            let (to_light, dist, fall) = match (l.kind, buffer) {
                 // The buffer keeps the direction, made once.
-                (LightKind::Parallel { .. }, Some(lb)) => (lb.toward(), f64::INFINITY, 1.0),
-                (LightKind::Parallel { dir }, None) => (-dir.normalize(), f64::INFINITY, 1.0),
+                (LightKind::Parallel { .. }, Some(Buffer::Parallel(lb))) => {
+                    (lb.toward(), f64::INFINITY, 1.0)
+                }
+                (LightKind::Parallel { dir }, _) => (-dir.normalize(), f64::INFINITY, 1.0),
                 (LightKind::Point { pos, decay }, _) => {
                     let d = pos - p;
                     let r = d.length();
@@ -274,7 +284,7 @@ impl Renderer {
             }
             if shadows {
                 let skip = self.prepared.shadow_skip(hit);
-                let blocked = if let Some(lb) = lb {
+                let blocked = if let Some(Buffer::Parallel(lb)) = buffer {
                     let shadow = lb.shadow_ray(p);
                     self.prepared
                         .occluded_along(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
@@ -282,6 +292,10 @@ impl Renderer {
                     let shadow = Ray::new(p, to_light);
                     self.prepared
                         .occluded_in(zones, skip, &shadow, eps, dist, s)
+                } else if let Some(Buffer::Point(pb)) = buffer {
+                    let shadow = Ray::new(p, to_light);
+                    self.prepared
+                        .occluded_from(pb, &shadow, eps, dist, skip, &mut occ.last[li], s)
                 } else {
                     let shadow = Ray::new(p, to_light);
                     self.prepared.occluded(&shadow, eps, dist, skip, s)

@@ -397,6 +397,46 @@ fn a_reused_frame_holds_exactly_the_new_picture() {
 }
 
 #[test]
+fn moving_the_lamp_between_renders_moves_its_shadows() {
+    // The lamp's buffer is kept too, and remade when the lamp moves. One
+    // tile for the lattice: its shadow rays toward the lamp may meet more
+    // zones than a tile lists, so they use the lamp's buffer.
+    let st = Settings {
+        width: 16,
+        height: 12,
+        shadows: true,
+        samples: 1,
+        aovs: false,
+    };
+    let mut scene = crowded();
+    // The lamp alone, so that its shadows are all there is to see.
+    scene
+        .lights
+        .retain(|l| matches!(l.kind, LightKind::Point { .. }));
+    let (mut r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    let first = r.render(&st, &|_| {});
+    assert_eq!(r.render(&st, &|_| {}), first, "same lamp, same picture");
+    let LightKind::Point { pos, decay } = r.lights[0].kind else {
+        panic!("the crowded scene has a lamp");
+    };
+    let moved_to = LightKind::Point {
+        pos: DVec3::new(pos.y, -pos.x, pos.z),
+        decay,
+    };
+    r.lights[0].kind = moved_to;
+    let again = r.render(&st, &|_| {});
+    let mut moved = scene.clone();
+    moved.lights[0].kind = moved_to;
+    let (fresh, _) = Renderer::new(&moved, 4.0 / 3.0).unwrap();
+    assert_eq!(again, fresh.render(&st, &|_| {}));
+    assert_eq!(again, brute_force(&moved, 4.0 / 3.0).render(&st, &|_| {}));
+    let changed = (0..first.rgb.len())
+        .filter(|&i| first.rgb[i] != again.rgb[i])
+        .count();
+    assert!(changed > first.rgb.len() / 20, "{changed} pixels changed");
+}
+
+#[test]
 fn turning_the_sun_between_renders_moves_the_shadows() {
     // The light buffers of one render are kept for the next: they must be
     // remade when a parallel light turns, and only then.

@@ -299,8 +299,8 @@ pub struct PointBuffer {
 type Sighting = (u32, f64, usize, [f64; 4]);
 
 /// The grid over one face of a point light's cube: `n` × `n` cells over the
-/// extent `u0..`, `v0..` (face coordinates) of the zones seen through the
-/// face, `scale` cells per unit; its cells start at `first`.
+/// extent from `(u0, v0)` (face coordinates) of the zones seen through the
+/// face, `su` and `sv` cells per unit; its cells start at `first`.
 #[derive(Clone, Copy, Debug, Default)]
 struct FaceGrid {
     u0: f64,
@@ -312,8 +312,9 @@ struct FaceGrid {
 }
 
 impl FaceGrid {
-    /// The grid over `rects` (at most 4 cells a rectangle, capped at
-    /// `n` a side), with its cells from `first`.
+    /// The grid over `rects`: about four cells a rectangle, no finer than
+    /// half the typical rectangle's side and at most `n` a side, its cells
+    /// numbered from `first`.
     fn new<'r>(rects: impl Iterator<Item = &'r [f64; 4]> + Clone, n: usize, first: usize) -> Self {
         let e = rects.clone().fold([1.0f64, 1.0, -1.0, -1.0], |e, r| {
             [

@@ -126,37 +126,17 @@ impl LightBuffer {
             }
             cells = (nu * nv) as f64 / 4.0;
         }
-        // Counting sort of the references by cell.
-        let mut count = vec![0u32; lb.nu * lb.nv + 1];
-        for (_, r, _) in &rects {
-            let ((u0, u1), (v0, v1)) = lb.span(r);
-            for j in v0..=v1 {
-                for i in u0..=u1 {
-                    count[j * lb.nu + i + 1] += 1;
-                }
-            }
-        }
-        for c in 1..count.len() {
-            count[c] += count[c - 1];
-        }
-        let mut fill = count.clone();
-        let total = *count.last().unwrap_or(&0) as usize;
-        let (mut items, mut far) = (vec![0u32; total], vec![0.0; total]);
         // In order of reach, so every cell's list comes out sorted.
-        for (zi, r, f) in &rects {
-            let ((u0, u1), (v0, v1)) = lb.span(r);
-            for j in v0..=v1 {
-                for i in u0..=u1 {
-                    let c = j * lb.nu + i;
-                    items[fill[c] as usize] = *zi;
-                    far[fill[c] as usize] = *f;
-                    fill[c] += 1;
+        (lb.start, lb.items, lb.far) = bin_by_cell(lb.nu * lb.nv, |visit| {
+            for (zi, r, f) in &rects {
+                let ((u0, u1), (v0, v1)) = lb.span(r);
+                for j in v0..=v1 {
+                    for i in u0..=u1 {
+                        visit(j * lb.nu + i, *zi, *f);
+                    }
                 }
             }
-        }
-        lb.start = count;
-        lb.items = items;
-        lb.far = far;
+        });
         lb
     }
 
@@ -184,11 +164,9 @@ impl LightBuffer {
 
     /// The cell holding plane point `(a, b)`, clamped to the grid.
     fn cell_of(&self, a: f64, b: f64) -> (usize, usize) {
-        let i = ((a - self.origin.0) * self.scale.0).floor();
-        let j = ((b - self.origin.1) * self.scale.1).floor();
         (
-            (i.max(0.0) as usize).min(self.nu - 1),
-            (j.max(0.0) as usize).min(self.nv - 1),
+            clamped_cell(a, self.origin.0, self.scale.0, self.nu),
+            clamped_cell(b, self.origin.1, self.scale.1, self.nv),
         )
     }
 
@@ -219,6 +197,37 @@ impl LightBuffer {
         let behind = self.far[cell.clone()].partition_point(|&f| f < depth);
         Some((big, &self.items[cell.start + behind..cell.end]))
     }
+}
+
+/// The cell of `x` along a grid axis of `n` cells from `origin`, `scale`
+/// cells per unit, clamped to the grid.
+fn clamped_cell(x: f64, origin: f64, scale: f64, n: usize) -> usize {
+    let i = ((x - origin) * scale).floor();
+    (i.max(0.0) as usize).min(n - 1)
+}
+
+/// A counting sort of zone references by cell: `refs` gives its visitor
+/// every reference as (cell, zone, key), in the order each cell's list is
+/// to keep. Returns where each of the `cells` lists starts (and, last,
+/// where the last one ends), the zones and their keys.
+fn bin_by_cell(
+    cells: usize,
+    refs: impl Fn(&mut dyn FnMut(usize, u32, f64)),
+) -> (Vec<u32>, Vec<u32>, Vec<f64>) {
+    let mut start = vec![0u32; cells + 1];
+    refs(&mut |c, _, _| start[c + 1] += 1);
+    for c in 1..start.len() {
+        start[c] += start[c - 1];
+    }
+    let total = *start.last().unwrap_or(&0) as usize;
+    let (mut items, mut keys) = (vec![0u32; total], vec![0.0; total]);
+    let mut fill = start.clone();
+    refs(&mut |c, zi, key| {
+        items[fill[c] as usize] = zi;
+        keys[fill[c] as usize] = key;
+        fill[c] += 1;
+    });
+    (start, items, keys)
 }
 
 /// True when a rectangle side of length `side` is large beside the whole
@@ -374,15 +383,11 @@ impl FaceGrid {
 
     /// The cells (inclusive ranges of columns and rows) a rectangle covers.
     fn span(&self, r: &[f64; 4]) -> (usize, usize, usize, usize) {
-        let at = |u: f64, o: f64, sc: f64| {
-            let i = ((u - o) * sc).floor();
-            (i.max(0.0) as usize).min(self.n - 1)
-        };
         (
-            at(r[0], self.u0, self.su),
-            at(r[2], self.u0, self.su),
-            at(r[1], self.v0, self.sv),
-            at(r[3], self.v0, self.sv),
+            clamped_cell(r[0], self.u0, self.su, self.n),
+            clamped_cell(r[2], self.u0, self.su, self.n),
+            clamped_cell(r[1], self.v0, self.sv, self.n),
+            clamped_cell(r[3], self.v0, self.sv, self.n),
         )
     }
 }
@@ -436,9 +441,8 @@ impl PointBuffer {
             most /= 2;
         };
         let cells: usize = faces.iter().map(|g| g.n * g.n).sum();
-        // Counting sort of the references by cell, in order of distance.
-        let mut count = vec![0u32; cells + 1];
-        let each = |visit: &mut dyn FnMut(usize, u32, f64)| {
+        // In order of distance, so every cell's list comes out sorted.
+        let (start, items, near) = bin_by_cell(cells, |visit| {
             for &(zi, near, f, r) in &seen {
                 let g = &faces[f];
                 let (i0, i1, j0, j1) = g.span(&r);
@@ -448,23 +452,11 @@ impl PointBuffer {
                     }
                 }
             }
-        };
-        each(&mut |c, _, _| count[c + 1] += 1);
-        for c in 1..count.len() {
-            count[c] += count[c - 1];
-        }
-        let total = *count.last().unwrap_or(&0) as usize;
-        let (mut items, mut near) = (vec![0u32; total], vec![0.0; total]);
-        let mut fill = count.clone();
-        each(&mut |c, zi, d| {
-            items[fill[c] as usize] = zi;
-            near[fill[c] as usize] = d;
-            fill[c] += 1;
         });
         PointBuffer {
             pos,
             faces,
-            start: count,
+            start,
             items,
             near,
             big,

@@ -63,6 +63,27 @@ pub struct Hit {
     pub zone: u32,
 }
 
+impl Hit {
+    /// No hit: any hit found is better (region `u32::MAX` marks it).
+    pub const NONE: Hit = Hit {
+        t: f64::INFINITY,
+        region: u32::MAX,
+        bound: Bound {
+            t: f64::INFINITY,
+            body: u32::MAX,
+            face: 0,
+            flip: false,
+        },
+        inside: false,
+        zone: u32::MAX,
+    };
+
+    /// False for [`Hit::NONE`].
+    pub fn is_some(&self) -> bool {
+        self.region != u32::MAX
+    }
+}
+
 /// A stretch of the ray inside one region.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Partition {
@@ -186,7 +207,7 @@ impl Prepared {
     /// order in which the hierarchy is walked.
     pub fn first_hit(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> Option<Hit> {
         s.new_ray();
-        let mut best: Option<Hit> = None;
+        let mut best = Hit::NONE;
         let mut limit = tmax;
         for &zi in &self.unbounded_opaque {
             self.consider(zi, ray, tmin, &mut limit, &mut best, s);
@@ -198,7 +219,7 @@ impl Prepared {
                 }
                 false
             });
-        best
+        best.is_some().then_some(best)
     }
 
     /// As [`Prepared::first_hit`], but looking only at `zones` (from
@@ -206,6 +227,11 @@ impl Prepared {
     /// lower bound of the distance at which any ray of the bundle can enter
     /// it, sorted by that bound. Gives exactly the same answer for any ray
     /// of the bundle; stops as soon as no remaining zone can come nearer.
+    ///
+    /// The hit is written into `out` ([`Hit::NONE`] when there is none),
+    /// which may be its final place: a hit built field by field and then
+    /// copied whole stalls the processor (the copy's wide loads cannot be
+    /// forwarded from the narrow stores still in flight).
     pub fn first_hit_in(
         &self,
         zones: &[(f64, u32)],
@@ -213,17 +239,18 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
-    ) -> Option<Hit> {
+        out: &mut Hit,
+    ) -> bool {
         s.new_ray();
-        let mut best: Option<Hit> = None;
+        *out = Hit::NONE;
         let mut limit = tmax;
         for &(near, zi) in zones {
             if near > limit {
                 break;
             }
-            self.consider(zi, ray, tmin, &mut limit, &mut best, s);
+            self.consider(zi, ray, tmin, &mut limit, out, s);
         }
-        best
+        out.is_some()
     }
 
     /// Order `zones` for [`Prepared::first_hit_in`]: each zone with a lower
@@ -268,7 +295,7 @@ impl Prepared {
         ray: &Ray,
         tmin: f64,
         limit: &mut f64,
-        best: &mut Option<Hit>,
+        best: &mut Hit,
         s: &mut Scratch,
     ) {
         let z = &self.zones[zi as usize];
@@ -282,18 +309,15 @@ impl Prepared {
         } else {
             (tmin, true)
         };
-        let better = match best {
-            None => true,
-            Some(h) => t < h.t || (t == h.t && z.region < h.region),
-        };
-        if better {
-            *best = Some(Hit {
+        // Any hit is better than none (region `u32::MAX`).
+        if t < best.t || (t == best.t && z.region < best.region) {
+            *best = Hit {
                 zone: zi,
                 t,
                 region: z.region,
                 bound: sp.a,
                 inside,
-            });
+            };
             // Keep equal-t candidates reachable for the tie rule.
             *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
         }
@@ -512,6 +536,7 @@ impl Prepared {
 
     /// Outward unit normal of the surface at a hit (reversed for a
     /// subtracted body; facing the ray when it started inside).
+    #[inline(always)]
     pub fn normal(&self, hit: &Hit, ray: &Ray) -> DVec3 {
         if hit.inside || hit.bound.body == u32::MAX {
             return -ray.dir;

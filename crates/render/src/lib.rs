@@ -42,6 +42,8 @@ struct Workspace<'a> {
     /// The tile's primary rays that hit: their sample number in the tile
     /// (an index into `rays`) and the hit. Rays that miss are not kept.
     hits: Vec<(u32, Hit)>,
+    /// The surface normal at each hit, in the order of `hits`.
+    normals: Vec<DVec3>,
     /// The zones the tile's shadow rays may meet.
     shadow: Occluders<'a>,
 }
@@ -55,6 +57,7 @@ impl<'a> Workspace<'a> {
             pts: Vec::new(),
             rays: Vec::new(),
             hits: Vec::new(),
+            normals: Vec::new(),
             shadow: Occluders {
                 buffers,
                 last: vec![None; lights],
@@ -218,7 +221,8 @@ impl Renderer {
 
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
-        self.shade_with(ray, hit, shadows, &mut Occluders::default(), s)
+        let n = self.prepared.normal(hit, ray);
+        self.shade_with(ray, hit, n, shadows, &mut Occluders::default(), s)
     }
 
     /// The lights' buffers: those of the last render when its lights were
@@ -255,12 +259,12 @@ impl Renderer {
         &self,
         ray: &Ray,
         hit: &Hit,
+        n: DVec3,
         shadows: bool,
         occ: &mut Occluders<'_>,
         s: &mut Scratch,
     ) -> [f64; 3] {
         let p = ray.at(hit.t);
-        let n = self.prepared.normal(hit, ray);
         let (k, colour) = self.looks[hit.region as usize];
         let mut sum = [0.0; 3];
         let eps = 10.0 * self.prepared.tolerance();
@@ -389,7 +393,7 @@ impl Renderer {
                         .by_distance(&ws.cands, self.camera.eye, parallel, &mut ws.sorted);
                     // Primary rays of the whole tile first (none when no
                     // zone meets the tile: it is all background).
-                    ws.hits.clear();
+                    let mut found = 0;
                     if !(few && ws.cands.is_empty()) {
                         ws.pts.clear();
                         for yy in 0..rows {
@@ -404,20 +408,35 @@ impl Renderer {
                         }
                         ws.rays.clear();
                         gen.rays(&ws.pts, &mut ws.rays);
-                        for (k, &ray) in ws.rays.iter().enumerate() {
+                        // Each hit is written straight into its slot (see
+                        // `first_hit_in`); the slot is kept when it holds
+                        // one. The slots are only ever added to: filling
+                        // them anew for every tile stalls as a copy does.
+                        if ws.hits.len() < ws.rays.len() {
+                            ws.hits.resize(ws.rays.len(), (0, Hit::NONE));
+                        }
+                        for (k, ray) in ws.rays.iter().enumerate() {
+                            let slot = &mut ws.hits[found];
                             let hit = if few {
                                 self.prepared.first_hit_in(
                                     &ws.sorted,
-                                    &ray,
+                                    ray,
                                     0.0,
                                     f64::INFINITY,
                                     &mut ws.s,
+                                    &mut slot.1,
                                 )
+                            } else if let Some(h) =
+                                self.prepared.first_hit(ray, 0.0, f64::INFINITY, &mut ws.s)
+                            {
+                                slot.1 = h;
+                                true
                             } else {
-                                self.prepared.first_hit(&ray, 0.0, f64::INFINITY, &mut ws.s)
+                                false
                             };
-                            if let Some(hit) = hit {
-                                ws.hits.push((k as u32, hit));
+                            if hit {
+                                slot.0 = k as u32;
+                                found += 1;
                             }
                         }
                     }
@@ -425,9 +444,18 @@ impl Renderer {
                     // rays may meet: those in the box of the tile's hit
                     // points and the light. (Parallel lights have their
                     // light buffers.)
-                    if st.shadows && !ws.hits.is_empty() && point_lights {
+                    let hits = &ws.hits[..found];
+                    // The normals before any shading: the shading loop
+                    // reads a normal whole, which stalls when it was just
+                    // written a coordinate at a time.
+                    ws.normals.clear();
+                    ws.normals.extend(
+                        hits.iter()
+                            .map(|(k, h)| self.prepared.normal(h, &ws.rays[*k as usize])),
+                    );
+                    if st.shadows && !hits.is_empty() && point_lights {
                         let from = Aabb::from_points(
-                            ws.hits.iter().map(|(k, h)| ws.rays[*k as usize].at(h.t)),
+                            hits.iter().map(|(k, h)| ws.rays[*k as usize].at(h.t)),
                         );
                         for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
                             if let LightKind::Point { pos, .. } = l.kind {
@@ -452,12 +480,13 @@ impl Renderer {
                         for yy in 0..rows {
                             for x in x0..x1 {
                                 let i = yy * w + x;
-                                (rgb[i], alpha[i]) = match ws.hits.get(next) {
+                                (rgb[i], alpha[i]) = match hits.get(next) {
                                     Some((kk, hit)) if *kk == k => {
                                         next += 1;
                                         let c = self.shade_with(
                                             &ws.rays[k as usize],
                                             hit,
+                                            ws.normals[next - 1],
                                             st.shadows,
                                             &mut ws.shadow,
                                             &mut ws.s,
@@ -478,13 +507,14 @@ impl Renderer {
                             let mut cover = 0.0;
                             for _ in 0..n * n {
                                 // Shaded in place: no copy of the ray and hit.
-                                let c = match ws.hits.get(next) {
+                                let c = match hits.get(next) {
                                     Some((kk, hit)) if *kk == k => {
                                         next += 1;
                                         cover += 1.0;
                                         self.shade_with(
                                             &ws.rays[k as usize],
                                             hit,
+                                            ws.normals[next - 1],
                                             st.shadows,
                                             &mut ws.shadow,
                                             &mut ws.s,

@@ -82,6 +82,7 @@ impl Shape {
     }
 
     /// Outward unit normal of `face` at point `p` (on that face).
+    #[inline(always)]
     pub fn normal(&self, face: u32, p: DVec3) -> DVec3 {
         match self {
             Shape::Sphere(s) => s.normal(p),

@@ -13,16 +13,43 @@
 //! 1e-7 of the model's bounding-box diagonal unless told otherwise.
 
 /// One end of a span.
+///
+/// Sixteen bytes without padding: spans are copied whole all through the
+/// booleans, and a copy that carries padding bytes reads back the narrow
+/// store of the flag beside them, which the processor cannot forward.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bound {
     /// Ray parameter (distance along the ray).
     pub t: f64,
     /// Body whose surface is crossed.
     pub body: u32,
-    /// Face of that body.
-    pub face: u32,
+    /// The face of that body in the low bits, [`Bound::FLIP`] when the body
+    /// was subtracted.
+    face_flip: u32,
+}
+
+impl Bound {
+    /// The bit of `face_flip` set for a subtracted body.
+    const FLIP: u32 = 1 << 31;
+
+    /// The end at `t` on `face` of `body` (faces below 2³¹), not flipped.
+    pub const fn new(t: f64, body: u32, face: u32) -> Bound {
+        Bound {
+            t,
+            body,
+            face_flip: face & !Self::FLIP,
+        }
+    }
+
+    /// Face of the body.
+    pub fn face(&self) -> u32 {
+        self.face_flip & !Self::FLIP
+    }
+
     /// True when the body was subtracted, so its normal is reversed.
-    pub flip: bool,
+    pub fn flip(&self) -> bool {
+        self.face_flip & Self::FLIP != 0
+    }
 }
 
 /// A stretch `[a.t, b.t]` of the ray.
@@ -47,7 +74,7 @@ impl Span {
 }
 
 fn flipped(mut b: Bound) -> Bound {
-    b.flip = !b.flip;
+    b.face_flip ^= Bound::FLIP;
     b
 }
 
@@ -138,18 +165,8 @@ mod tests {
 
     fn sp(a: f64, b: f64, body: u32) -> Span {
         Span {
-            a: Bound {
-                t: a,
-                body,
-                face: 0,
-                flip: false,
-            },
-            b: Bound {
-                t: b,
-                body,
-                face: 1,
-                flip: false,
-            },
+            a: Bound::new(a, body, 0),
+            b: Bound::new(b, body, 1),
         }
     }
 
@@ -222,8 +239,8 @@ mod tests {
         let mut out = vec![];
         subtract(&[sp(0.0, 4.0, 1)], &[sp(1.0, 2.0, 2)], &mut out, 1e-9);
         assert_eq!(out.len(), 2);
-        assert!(out[0].b.flip && out[0].b.body == 2);
-        assert!(out[1].a.flip && out[1].a.body == 2);
+        assert!(out[0].b.flip() && out[0].b.body == 2);
+        assert!(out[1].a.flip() && out[1].a.body == 2);
         // A body subtracted flush with the entry face leaves no sliver.
         subtract(&[sp(0.0, 4.0, 1)], &[sp(1e-15, 2.0, 2)], &mut out, 1e-9);
         assert_eq!(out.len(), 1);

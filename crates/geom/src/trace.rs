@@ -68,12 +68,7 @@ impl Hit {
     pub const NONE: Hit = Hit {
         t: f64::INFINITY,
         region: u32::MAX,
-        bound: Bound {
-            t: f64::INFINITY,
-            body: u32::MAX,
-            face: 0,
-            flip: false,
-        },
+        bound: Bound::new(f64::INFINITY, u32::MAX, 0),
         inside: false,
         zone: u32::MAX,
     };
@@ -146,18 +141,9 @@ impl Prepared {
         s.cur.clear();
         let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         if plus.is_empty() {
-            let inf = Bound {
-                t: f64::INFINITY,
-                body: u32::MAX,
-                face: 0,
-                flip: false,
-            };
             s.cur.push(Span {
-                a: Bound {
-                    t: f64::NEG_INFINITY,
-                    ..inf
-                },
-                b: inf,
+                a: Bound::new(f64::NEG_INFINITY, u32::MAX, 0),
+                b: Bound::new(f64::INFINITY, u32::MAX, 0),
             });
         } else {
             for (i, &b) in plus.iter().enumerate() {
@@ -402,7 +388,7 @@ impl Prepared {
     /// leaves it for good, and `-` bodies only take material away.
     pub fn shadow_skip(&self, hit: &Hit) -> Option<u32> {
         let z = &self.zones[hit.zone as usize];
-        (!hit.inside && !hit.bound.flip && z.convex).then_some(hit.zone)
+        (!hit.inside && !hit.bound.flip() && z.convex).then_some(hit.zone)
     }
 
     /// As [`Prepared::occluded`], looking only at `zones` (from
@@ -521,7 +507,7 @@ impl Prepared {
                         entering,
                         region: p.region,
                         body: b.body,
-                        face: b.face,
+                        face: b.face(),
                     });
                 }
             }
@@ -541,8 +527,8 @@ impl Prepared {
         if hit.inside || hit.bound.body == u32::MAX {
             return -ray.dir;
         }
-        let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face, ray.at(hit.t));
-        if hit.bound.flip {
+        let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face(), ray.at(hit.t));
+        if hit.bound.flip() {
             -n
         } else {
             n
@@ -554,18 +540,8 @@ impl Prepared {
 /// `subtract` flips the bounds it takes from a subtracted body).
 fn spans(segs: &[Seg], body: u32) -> impl Iterator<Item = Span> + '_ {
     segs.iter().map(move |g| Span {
-        a: Bound {
-            t: g.t0,
-            body,
-            face: g.f0,
-            flip: false,
-        },
-        b: Bound {
-            t: g.t1,
-            body,
-            face: g.f1,
-            flip: false,
-        },
+        a: Bound::new(g.t0, body, g.f0),
+        b: Bound::new(g.t1, body, g.f1),
     })
 }
 

@@ -34,6 +34,7 @@ impl Bound {
 
     /// The end at `t` on `face` of `body` (faces below 2³¹), not flipped.
     pub const fn new(t: f64, body: u32, face: u32) -> Bound {
+        debug_assert!(face < Self::FLIP, "face number too large");
         Bound {
             t,
             body,

@@ -40,7 +40,9 @@ struct Workspace<'a> {
     pts: Vec<[f64; 2]>,
     rays: Vec<Ray>,
     /// The tile's primary rays that hit: their sample number in the tile
-    /// (an index into `rays`) and the hit. Rays that miss are not kept.
+    /// (an index into `rays`) and the hit, in as many first entries as
+    /// there are hits. Rays that miss are not kept; the entries past the
+    /// hits are slots kept for the next tile.
     hits: Vec<(u32, Hit)>,
     /// The surface normal at each hit, in the order of `hits`.
     normals: Vec<DVec3>,

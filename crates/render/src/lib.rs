@@ -17,6 +17,7 @@ mod view;
 pub use frame::Frame;
 pub use view::{default_camera, default_lights, frame_bounds};
 
+use crossbeam_utils::CachePadded;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -356,13 +357,19 @@ impl Renderer {
         };
         // One working memory per worker thread, made once: a `Scratch` is
         // sized by the body count, too big to make for every piece of work.
-        let pool: Vec<Mutex<Workspace>> = (0..rayon::current_num_threads())
-            .map(|_| Mutex::new(Workspace::new(&self.prepared, self.lights.len(), &buffers)))
+        // Each is made by its own thread on first use, so that its heap
+        // blocks come from that thread's arena, and each sits on cache
+        // lines of its own: workers that wrote to one line (a small
+        // vector, or neighbouring vector headers) made two threads barely
+        // faster than one.
+        let pool: Vec<CachePadded<Mutex<Option<Workspace>>>> = (0..rayon::current_num_threads())
+            .map(|_| CachePadded::new(Mutex::new(None)))
             .collect();
         let mine = || {
             let i = rayon::current_thread_index().unwrap_or(0) % pool.len();
             pool[i].lock().unwrap_or_else(|e| e.into_inner())
         };
+        let make = || Workspace::new(&self.prepared, self.lights.len(), &buffers);
         let parallel = ortho.then(|| self.camera.dir.normalize());
         frame
             .rgb
@@ -375,7 +382,7 @@ impl Renderer {
             .with_max_len(1)
             .for_each(|(band, (rgb, alpha))| {
                 let mut guard = mine();
-                let ws = &mut *guard;
+                let ws = guard.get_or_insert_with(make);
                 let y0 = band * TILE;
                 let rows = rgb.len() / w;
                 for x0 in (0..w).step_by(TILE) {
@@ -546,7 +553,7 @@ impl Renderer {
                 .enumerate()
                 .for_each(|(y, ((region, depth), normal))| {
                     let mut guard = mine();
-                    let s = &mut guard.s;
+                    let s = &mut guard.get_or_insert_with(make).s;
                     for x in 0..w {
                         let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
                         (region[x], depth[x], normal[x]) =

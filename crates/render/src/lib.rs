@@ -371,6 +371,7 @@ impl Renderer {
         };
         let make = || Workspace::new(&self.prepared, self.lights.len(), &buffers);
         let parallel = ortho.then(|| self.camera.dir.normalize());
+        let background = self.background.map(|v| v as f32);
         frame
             .rgb
             .par_chunks_mut(w * TILE)
@@ -480,35 +481,35 @@ impl Renderer {
                             }
                         }
                     }
-                    let (mut k, mut next) = (0, 0);
                     if n == 1 {
-                        // One ray a pixel: the colour as shaded, without the
-                        // sums below (which would give the same values).
-                        // Sharing the shading call with the loop below
-                        // through a closure costs 4 % more instructions.
+                        // One ray a pixel: the tile filled with background,
+                        // then each hit's pixel shaded (the same values as
+                        // the sums below). Written a pixel at a time, the
+                        // background made an empty picture take 1.6 times
+                        // as long.
+                        let tw = x1 - x0;
                         for yy in 0..rows {
-                            for x in x0..x1 {
-                                let i = yy * w + x;
-                                (rgb[i], alpha[i]) = match hits.get(next) {
-                                    Some((kk, hit)) if *kk == k => {
-                                        next += 1;
-                                        let c = self.shade_with(
-                                            &ws.rays[k as usize],
-                                            hit,
-                                            ws.normals[next - 1],
-                                            st.shadows,
-                                            &mut ws.shadow,
-                                            &mut ws.s,
-                                        );
-                                        (c.map(|v| v as f32), 1.0)
-                                    }
-                                    _ => (self.background.map(|v| v as f32), 0.0),
-                                };
-                                k += 1;
-                            }
+                            let row = yy * w + x0;
+                            rgb[row..row + tw].fill(background);
+                            alpha[row..row + tw].fill(0.0);
+                        }
+                        for ((k, hit), &n) in hits.iter().zip(&ws.normals) {
+                            let k = *k as usize;
+                            let i = k / tw * w + x0 + k % tw;
+                            let c = self.shade_with(
+                                &ws.rays[k],
+                                hit,
+                                n,
+                                st.shadows,
+                                &mut ws.shadow,
+                                &mut ws.s,
+                            );
+                            rgb[i] = c.map(|v| v as f32);
+                            alpha[i] = 1.0;
                         }
                         continue;
                     }
+                    let (mut k, mut next) = (0, 0);
                     for yy in 0..rows {
                         for x in x0..x1 {
                             let i = yy * w + x;

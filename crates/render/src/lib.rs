@@ -371,7 +371,9 @@ impl Renderer {
         };
         let make = || Workspace::new(&self.prepared, self.lights.len(), &buffers);
         let parallel = ortho.then(|| self.camera.dir.normalize());
-        let background = self.background.map(|v| v as f32);
+        // A tile row of background, copied whole (a fill writes it a
+        // pixel at a time).
+        let bg_row = [self.background.map(|v| v as f32); TILE];
         frame
             .rgb
             .par_chunks_mut(w * TILE)
@@ -490,7 +492,7 @@ impl Renderer {
                         let tw = x1 - x0;
                         for yy in 0..rows {
                             let row = yy * w + x0;
-                            rgb[row..row + tw].fill(background);
+                            rgb[row..row + tw].copy_from_slice(&bg_row[..tw]);
                             alpha[row..row + tw].fill(0.0);
                         }
                         for ((k, hit), &n) in hits.iter().zip(&ws.normals) {

@@ -374,6 +374,17 @@ impl Renderer {
         // A tile row of background, copied whole (a fill writes it a
         // pixel at a time).
         let bg_row = [self.background.map(|v| v as f32); TILE];
+        // A supersampled pixel of background, summed as the loop below
+        // sums its samples.
+        let bg_pixel = {
+            let mut acc = [0.0f64; 3];
+            for _ in 0..n * n {
+                for (a, v) in acc.iter_mut().zip(self.background) {
+                    *a += v;
+                }
+            }
+            acc.map(|v| (v * inv) as f32)
+        };
         frame
             .rgb
             .par_chunks_mut(w * TILE)
@@ -512,9 +523,17 @@ impl Renderer {
                         continue;
                     }
                     let (mut k, mut next) = (0, 0);
+                    let nn = n * n;
                     for yy in 0..rows {
                         for x in x0..x1 {
                             let i = yy * w + x;
+                            // A pixel none of whose rays hit: background.
+                            if hits.get(next).is_none_or(|(kk, _)| *kk >= k + nn) {
+                                rgb[i] = bg_pixel;
+                                alpha[i] = 0.0;
+                                k += nn;
+                                continue;
+                            }
                             let mut acc = [0.0f64; 3];
                             let mut cover = 0.0;
                             for _ in 0..n * n {

@@ -113,6 +113,13 @@ def main(argv):
     out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "bench")
     sizes = [100, 1000, 10000]
     args = list(argv)
+    if any(a in ("-h", "--help") for a in args):
+        print(__doc__)
+        return 0
+    bad = [a for a in args if a.startswith("-") and a not in ("--sizes", "--crowds")]
+    if bad:
+        sys.stderr.write(f"gen_scenes.py: unknown option {bad[0]}\n{__doc__}")
+        return 2
     if "--sizes" in args:
         i = args.index("--sizes")
         sizes = [int(s) for s in args[i + 1].split(",")]
@@ -141,4 +148,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    sys.exit(main(sys.argv[1:]))

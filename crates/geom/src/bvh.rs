@@ -41,10 +41,12 @@ struct WideNode {
 }
 
 impl WideNode {
-    /// No children.
+    /// No children. An empty slot's box lies at infinity on every axis,
+    /// so the slab test passes it only as entered at `t = inf` (a ray going
+    /// up every axis with no far limit), and the walk drops it there.
     const EMPTY: WideNode = WideNode {
         lo: [[f64::INFINITY; 4]; 3],
-        hi: [[f64::NEG_INFINITY; 4]; 3],
+        hi: [[f64::INFINITY; 4]; 3],
         child: [Child::None; 4],
     };
 }
@@ -52,7 +54,7 @@ impl WideNode {
 /// A child of a wide node: an interior node (its index), a leaf (`count`
 /// items from `first`), or nothing.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Child {
+pub(crate) enum Child {
     Node(u32),
     Leaf { first: u32, count: u32 },
     None,
@@ -60,6 +62,14 @@ enum Child {
 
 /// Children per wide node.
 const WIDTH: usize = 4;
+
+/// Entries of a walk's stack: three per level of the wide tree, far more
+/// than any tree built here needs.
+const STACK: usize = 96;
+
+/// A walk's stack, kept by the caller from ray to ray: set up anew for
+/// every ray, it cost a tenth of the walk.
+pub(crate) type Stack = Vec<(Child, f64)>;
 
 const BINS: usize = 12;
 const MAX_LEAF: usize = 4;
@@ -234,6 +244,7 @@ impl Bvh {
         ray: &Ray,
         tmin: f64,
         tmax: &mut f64,
+        stack: &mut Stack,
         mut visit: impl FnMut(&[u32], &mut f64) -> bool,
     ) {
         if self.wide.is_empty() {
@@ -241,7 +252,10 @@ impl Bvh {
         }
         // Entries still to visit with the distance at which the ray enters
         // their box: a node is skipped when that is past `*tmax`.
-        let mut stack = [(Child::None, 0.0f64); 96];
+        if stack.len() < STACK {
+            stack.resize(STACK, (Child::None, 0.0));
+        }
+        let stack = &mut stack[..STACK];
         let mut sp = 0;
         stack[sp] = (Child::Node(0), tmin);
         sp += 1;
@@ -264,7 +278,7 @@ impl Bvh {
                     let mut order = [(0.0f64, 0usize); WIDTH];
                     let mut m = 0;
                     for k in 0..WIDTH {
-                        if hit[k] && n.child[k] != Child::None {
+                        if hit[k] {
                             order[m] = (near[k], k);
                             m += 1;
                         }

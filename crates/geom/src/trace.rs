@@ -2,7 +2,7 @@
 //! hit (shadows), and the full list of region partitions along a ray.
 
 use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
-use crate::bvh::hits;
+use crate::bvh::{hits, Stack};
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Seg;
 use sv_math::{Aabb, DVec3, Ray};
@@ -21,6 +21,7 @@ pub struct Scratch {
     tmp: Vec<Span>,
     body: Vec<Span>,
     tagged: Vec<(u32, Span)>,
+    stack: Stack,
 }
 
 impl Scratch {
@@ -34,6 +35,7 @@ impl Scratch {
             tmp: Vec::with_capacity(16),
             body: Vec::with_capacity(16),
             tagged: Vec::new(),
+            stack: Stack::new(),
         }
     }
 
@@ -198,13 +200,15 @@ impl Prepared {
         for &zi in &self.unbounded_opaque {
             self.consider(zi, ray, tmin, &mut limit, &mut best, s);
         }
+        let mut stack = std::mem::take(&mut s.stack);
         self.bvh_opaque
-            .traverse(ray, tmin, &mut limit, |items, limit| {
+            .traverse(ray, tmin, &mut limit, &mut stack, |items, limit| {
                 for &zi in items {
                     self.consider(zi, ray, tmin, limit, &mut best, s);
                 }
                 false
             });
+        s.stack = stack;
         best.is_some().then_some(best)
     }
 
@@ -374,10 +378,13 @@ impl Prepared {
         }
         let mut limit = tmax;
         let mut found = false;
-        self.bvh_opaque.traverse(ray, tmin, &mut limit, |items, _| {
-            found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
-            found
-        });
+        let mut stack = std::mem::take(&mut s.stack);
+        self.bvh_opaque
+            .traverse(ray, tmin, &mut limit, &mut stack, |items, _| {
+                found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
+                found
+            });
+        s.stack = stack;
         found
     }
 
@@ -462,12 +469,15 @@ impl Prepared {
             collect(zi, s);
         }
         let mut limit = tmax;
-        self.bvh_all.traverse(ray, tmin, &mut limit, |items, _| {
-            for &zi in items {
-                collect(zi, s);
-            }
-            false
-        });
+        let mut stack = std::mem::take(&mut s.stack);
+        self.bvh_all
+            .traverse(ray, tmin, &mut limit, &mut stack, |items, _| {
+                for &zi in items {
+                    collect(zi, s);
+                }
+                false
+            });
+        s.stack = stack;
         // Union the zones of each region.
         tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
         let mut i = 0;

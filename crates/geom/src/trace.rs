@@ -137,6 +137,15 @@ impl Prepared {
     /// Returns false when there are none. The caller has checked that the
     /// ray meets the zone's bounds.
     fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
+        if z.plus == 1 && z.minus == 0 {
+            // A lone body: its spans are the zone's.
+            let b = self.terms[z.first as usize];
+            let (a, e) = self.body_segs(b, ray, s, true);
+            s.cur.clear();
+            s.cur
+                .extend(spans(&s.segs[a..e], b).filter(|sp| sp.b.t > lo && sp.a.t < hi));
+            return !s.cur.is_empty();
+        }
         let terms =
             &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
         let (plus, minus) = terms.split_at(z.plus as usize);

@@ -2,7 +2,7 @@
 //! hit (shadows), and the full list of region partitions along a ray.
 
 use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
-use crate::bvh::{hits, Stack};
+use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Seg;
 use sv_math::{Aabb, DVec3, Ray};
@@ -127,6 +127,26 @@ impl Prepared {
         (c[1] as usize, c[2] as usize)
     }
 
+    /// Walk `bvh` along the ray with the scratch's stack, as
+    /// [`Bvh::traverse`], handing `visit` each leaf's zones, the limit and
+    /// the scratch.
+    #[inline]
+    fn leaves(
+        &self,
+        bvh: &Bvh,
+        ray: &Ray,
+        tmin: f64,
+        limit: &mut f64,
+        s: &mut Scratch,
+        mut visit: impl FnMut(&[u32], &mut f64, &mut Scratch) -> bool,
+    ) {
+        let mut stack = std::mem::take(&mut s.stack);
+        bvh.traverse(ray, tmin, limit, &mut stack, |items, limit| {
+            visit(items, limit, s)
+        });
+        s.stack = stack;
+    }
+
     /// Body `b`'s spans, from its segments `s.segs[a..e]`, into `s.body`.
     fn load_body(b: u32, (a, e): (usize, usize), s: &mut Scratch) {
         s.body.clear();
@@ -209,15 +229,19 @@ impl Prepared {
         for &zi in &self.unbounded_opaque {
             self.consider(zi, ray, tmin, &mut limit, &mut best, s);
         }
-        let mut stack = std::mem::take(&mut s.stack);
-        self.bvh_opaque
-            .traverse(ray, tmin, &mut limit, &mut stack, |items, limit| {
+        self.leaves(
+            &self.bvh_opaque,
+            ray,
+            tmin,
+            &mut limit,
+            s,
+            |items, limit, s| {
                 for &zi in items {
                     self.consider(zi, ray, tmin, limit, &mut best, s);
                 }
                 false
-            });
-        s.stack = stack;
+            },
+        );
         best.is_some().then_some(best)
     }
 
@@ -387,13 +411,10 @@ impl Prepared {
         }
         let mut limit = tmax;
         let mut found = false;
-        let mut stack = std::mem::take(&mut s.stack);
-        self.bvh_opaque
-            .traverse(ray, tmin, &mut limit, &mut stack, |items, _| {
-                found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
-                found
-            });
-        s.stack = stack;
+        self.leaves(&self.bvh_opaque, ray, tmin, &mut limit, s, |items, _, s| {
+            found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
+            found
+        });
         found
     }
 
@@ -478,15 +499,12 @@ impl Prepared {
             collect(zi, s);
         }
         let mut limit = tmax;
-        let mut stack = std::mem::take(&mut s.stack);
-        self.bvh_all
-            .traverse(ray, tmin, &mut limit, &mut stack, |items, _| {
-                for &zi in items {
-                    collect(zi, s);
-                }
-                false
-            });
-        s.stack = stack;
+        self.leaves(&self.bvh_all, ray, tmin, &mut limit, s, |items, _, s| {
+            for &zi in items {
+                collect(zi, s);
+            }
+            false
+        });
         // Union the zones of each region.
         tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
         let mut i = 0;

@@ -249,12 +249,17 @@ def summary(argv):
         side_by_side(res, part, baseline, out)
 
     sc = load_csv(os.path.join(res, "scaling.csv"))
-    if sc:
-        out.append("\n### Scaling: union of N random spheres, 960×720, one thread\n")
+    titles = {
+        "big_union": "union of N random spheres, radii 0.25–0.45 (fixed size)",
+        "big_union_cc": "union of N random spheres, radii × √(10000/N) (constant coverage)",
+    }
+    for series in dict.fromkeys(r.get("series", "big_union") for r in sc):
+        rows = [r for r in sc if r.get("series", "big_union") == series]
+        out.append(f"\n### Scaling: {titles.get(series, series)}, 960×720, one thread\n")
         out.append("| spheres | pixels on geometry | ours ns/ray, shadows off | ours ns/ray, shadows on | POV-Ray ns/ray, shadows off (trace) | ours ×(100), off | ours ×(100), on | POV-Ray ×(100) | ours ns per pixel on geometry, off | ×(100) |")
         out.append("|---|---|---|---|---|---|---|---|---|---|")
         first = {}
-        for r in sc:
+        for r in rows:
             n = r["bodies"]
             vals = [r.get("ours_ns_off"), r.get("ours_ns_on"), r.get("pov_ns_off")]
             vals = [float(v) if v else None for v in vals]

@@ -11,10 +11,13 @@
 #           C  same-geometry check (pictures compared pixel by pixel)
 #           A  960x720, -A -D -V, +WT1/+WT2, shadows off/on (as the baseline's part A)
 #           B  3840x2880, -F (no file), same settings (the baseline's part B)
-#           S  scaling: union of 100, 1000, 10000, 100000 spheres, one thread
+#           S  scaling: union of 100, 1000, 10000, 100000 spheres, one thread,
+#              in two series: radii as big_union's (fixed size), and radii
+#              scaled by sqrt(10000 / N) (constant coverage, see gen_scenes.py)
 #           M  reading and preparing: time and peak memory of `synthavision info`
 #   SCENES  scenes for parts C, A and B (default "figure1 helicopter many big_union")
 #   SIZES   sphere counts for part S (default "100 1000 10000 100000")
+#   SERIES  part S's series (default "big_union big_union_cc")
 #   UPDATE_DOC=1  also put the summary into BENCHMARKS.md (between the
 #           "compare.sh begin/end" markers) and the plot into docs/scaling.png
 #
@@ -28,6 +31,7 @@ REPS_HI=${2:-$REPS}
 PARTS=${PARTS:-"C A B S M"}
 SCENES=${SCENES:-"figure1 helicopter many big_union"}
 SIZES=${SIZES:-"100 1000 10000 100000"}
+SERIES=${SERIES:-"big_union big_union_cc"}
 TOOL="python3 $ROOT/bench/benchtool.py"
 
 missing=0
@@ -58,6 +62,10 @@ scene_file() {
       [ -f "$ROOT/bench/out/big_union_100000.sv" ] ||
         python3 "$ROOT/bench/gen_scenes.py" "$ROOT/bench/out" --sizes 100000
       echo "$ROOT/bench/out/big_union_100000.sv" ;;
+    big_union_cc_*)
+      [ -f "$ROOT/bench/out/$1.sv" ] ||
+        python3 "$ROOT/bench/gen_scenes.py" "$ROOT/bench/out" --coverage --sizes "${1#big_union_cc_}"
+      echo "$ROOT/bench/out/$1.sv" ;;
     big_union_*)
       [ -f "$ROOT/examples/bench/$1.sv" ] ||
         python3 "$ROOT/bench/gen_scenes.py" "$ROOT/bench/out" --sizes "${1#big_union_}"
@@ -137,24 +145,24 @@ for part in $PARTS; do
       done
     done; done; done ;;
   S)
-    echo "== part S: scaling ($SIZES spheres), one thread, $REPS repetitions" >&2
+    echo "== part S: scaling ($SIZES spheres; $SERIES), one thread, $REPS repetitions" >&2
     $TOOL pov-header > "$RES/pov_S.csv"; $TOOL ours-header > "$RES/ours_S.csv"
-    for n in $SIZES; do
-      s=big_union_$n
+    for series in $SERIES; do for n in $SIZES; do
+      s=${series}_$n
       echo "   $s" >&2
       # Taking turns, as in parts A and B.
       for rep in $(seq 1 "$REPS"); do
         pov "$RES/pov_S.csv" S "$s" 1 0 "$rep" 960 720 -F
         for sh in 0 1; do ours "$RES/ours_S.csv" "$s" 1 "$sh" 5 960x720 "$rep"; done
       done
-    done
+    done; done
     python3 - "$RES" <<'PY'
 import csv, statistics, sys, os
 res = sys.argv[1]
 ours = list(csv.DictReader(open(os.path.join(res, "ours_S.csv"))))
 pov = list(csv.DictReader(open(os.path.join(res, "pov_S.csv"))))
 out = open(os.path.join(res, "scaling.csv"), "w")
-out.write("bodies,coverage,ours_ns_off,ours_ns_on,pov_ns_off\n")
+out.write("series,bodies,coverage,ours_ns_off,ours_ns_on,pov_ns_off\n")
 for n in dict.fromkeys(r["scene"] for r in ours):
     ns, cov = {}, ""
     for sh in ("0", "1"):
@@ -165,7 +173,8 @@ for n in dict.fromkeys(r["scene"] for r in ours):
             cov = rows[0]["coverage"]
     p = [r for r in pov if r["scene"] == n]
     pn = statistics.median(float(r["trace_s"]) for r in p) * 1e9 / float(p[0]["pixels"]) if p else ""
-    out.write(f"{n.split('_')[-1]},{cov},{ns.get('0', '')},{ns.get('1', '')},{pn}\n")
+    series, bodies = n.rsplit("_", 1)
+    out.write(f"{series},{bodies},{cov},{ns.get('0', '')},{ns.get('1', '')},{pn}\n")
 PY
     ;;
   M)

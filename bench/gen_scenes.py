@@ -13,10 +13,14 @@ the vertical one: vfov = 2 atan(tan(hfov / 2) * H / W). POV-Ray's
 Sun(<a, b, c>) shines from that direction, so the light travels along
 -(a, c, b) in our coordinates.
 
-Usage: gen_scenes.py [OUTDIR] [--sizes 100,1000,10000,100000] [--crowds]
+Usage: gen_scenes.py [OUTDIR] [--sizes 100,1000,10000,100000] [--crowds] [--coverage]
 Writes OUTDIR/many.sv and OUTDIR/big_union_N.sv (big_union.sv for
 N = 10000, the baseline's size); with --crowds also crowd_sparse.sv and
-crowd_far.sv (100,000 spheres: tiles crowded past their zone lists).
+crowd_far.sv (100,000 spheres: tiles crowded past their zone lists); with
+--coverage also big_union_cc_N.sv: the N spheres with their radii scaled by
+sqrt(10000 / N), so that their summed cross-section, and with it the share
+of the picture they cover and the number of spheres a ray passes, stay
+those of the 10,000 (the scaling series at constant coverage).
 OUTDIR defaults to examples/bench.
 """
 import math
@@ -116,7 +120,8 @@ def main(argv):
     if any(a in ("-h", "--help") for a in args):
         print(__doc__)
         return 0
-    bad = [a for a in args if a.startswith("-") and a not in ("--sizes", "--crowds")]
+    flags = ("--sizes", "--crowds", "--coverage")
+    bad = [a for a in args if a.startswith("-") and a not in flags]
     if bad:
         sys.stderr.write(f"gen_scenes.py: unknown option {bad[0]}\n{__doc__}")
         return 2
@@ -124,9 +129,8 @@ def main(argv):
         i = args.index("--sizes")
         sizes = [int(s) for s in args[i + 1].split(",")]
         del args[i:i + 2]
-    crowds = "--crowds" in args
-    if crowds:
-        args.remove("--crowds")
+    crowds, coverage = "--crowds" in args, "--coverage" in args
+    args = [a for a in args if a not in ("--crowds", "--coverage")]
     if args:
         out = args[0]
     os.makedirs(out, exist_ok=True)
@@ -138,6 +142,11 @@ def main(argv):
     put("many.sv", many())
     for n in sizes:
         put("big_union.sv" if n == 10000 else f"big_union_{n}.sv", big_union(n))
+    if coverage:
+        for n in sizes:
+            put(f"big_union_cc_{n}.sv", big_union(
+                n, shrink=math.sqrt(n / 10000),
+                what=f", radii x {math.sqrt(10000 / n):.3g} (constant coverage)"))
     if crowds:
         # Crowded tiles: the 100,000 spheres 20 times smaller (most rays
         # slip between them), and the full-size ones from 30 times as far

@@ -25,22 +25,28 @@ def main(argv):
         sys.stderr.write("plot_scaling.py: matplotlib is missing (pip install matplotlib)\n")
         return 1
     rows = list(csv.DictReader(open(src)))
-    n = [int(r["bodies"]) for r in rows]
-    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
-    series = [("ours_ns_off", "SynthaVision, shadows off", "o-"),
-              ("ours_ns_on", "SynthaVision, shadows on", "s-"),
-              ("pov_ns_off", "POV-Ray 3.7 (trace time), shadows off", "^--")]
-    for key, label, style in series:
-        pts = [(x, float(r[key])) for x, r in zip(n, rows) if r.get(key)]
-        if pts:
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], style, label=label)
+    fig, ax = plt.subplots(figsize=(7.5, 5), dpi=110)
+    lines = [("ours_ns_off", "SynthaVision, shadows off", "o", "C0"),
+             ("ours_ns_on", "SynthaVision, shadows on", "s", "C1"),
+             ("pov_ns_off", "POV-Ray 3.7 (trace time), shadows off", "^", "C2")]
+    # Fixed-size spheres in solid lines, constant coverage dashed.
+    names = {"big_union": "fixed size", "big_union_cc": "constant coverage"}
+    dashes = {"big_union": "-", "big_union_cc": "--"}
+    for series in dict.fromkeys(r.get("series", "big_union") for r in rows):
+        part = [r for r in rows if r.get("series", "big_union") == series]
+        for key, label, marker, colour in lines:
+            pts = [(int(r["bodies"]), float(r[key])) for r in part if r.get(key)]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts],
+                        marker=marker, color=colour, linestyle=dashes.get(series, ":"),
+                        label=f"{label} ({names.get(series, series)})")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("spheres in the union (bodies)")
     ax.set_ylabel("ns per primary ray (one thread)")
     ax.set_title("Union of N random spheres, 960×720, one ray per pixel")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    ax.legend(fontsize=7)
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     fig.savefig(out)

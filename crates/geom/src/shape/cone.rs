@@ -94,17 +94,52 @@ impl Cone {
         let Some((mut t0, mut t1, mut f0, mut f1)) = Frame::slab(o, d) else {
             return;
         };
+        let Some((l0, l1)) = self.lateral(o, d, t0, t1) else {
+            return;
+        };
+        if l0 > t0 {
+            t0 = l0;
+            f0 = LATERAL;
+        }
+        if l1 < t1 {
+            t1 = l1;
+            f1 = LATERAL;
+        }
+        if t0 < t1 {
+            out.push(Seg { t0, t1, f0, f1 });
+        }
+    }
+
+    /// The stretch of the local ray `o + t d` inside the lateral surface
+    /// (infinite ends for a ray that stays inside), given its stretch
+    /// `(t0, t1)` in the slab between base and top; `None` when it misses.
+    #[inline(always)]
+    fn lateral(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
         let k = self.k;
-        let s0 = 1.0 + k * o.z;
         let a = d.x * d.x + d.y * d.y - k * k * d.z * d.z;
+        let scale = d.length_squared();
+        if k == 0.0 && a > 1e-12 * scale {
+            // A cylinder (RCC, REC): the closest approach of the ray's
+            // projection to the axis, and half a chord either side, as for
+            // a sphere: one division and one root.
+            let inv = 1.0 / a;
+            let tm = -(o.x * d.x + o.y * d.y) * inv;
+            let (fx, fy) = (o.x + d.x * tm, o.y + d.y * tm);
+            let disc = 1.0 - (fx * fx + fy * fy);
+            if disc < 0.0 {
+                return None;
+            }
+            let h = (disc * inv).sqrt();
+            return Some((tm - h, tm + h));
+        }
+        let s0 = 1.0 + k * o.z;
         let b = o.x * d.x + o.y * d.y - k * d.z * s0;
         let c = o.x * o.x + o.y * o.y - s0 * s0;
-        let scale = d.length_squared();
-        let (l0, l1) = if a.abs() <= 1e-12 * scale {
+        Some(if a.abs() <= 1e-12 * scale {
             // The ray runs parallel to a generator: one crossing at most.
             if b == 0.0 {
                 if c >= 0.0 {
-                    return;
+                    return None;
                 }
                 (f64::NEG_INFINITY, f64::INFINITY)
             } else {
@@ -118,7 +153,7 @@ impl Cone {
         } else {
             let disc = b * b - a * c;
             if disc < 0.0 {
-                return;
+                return None;
             }
             let q = -(b + b.signum() * disc.sqrt());
             let (r0, r1) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
@@ -142,21 +177,10 @@ impl Cone {
                             (r1, f64::INFINITY)
                         }
                     }
-                    (false, false) => return,
+                    (false, false) => return None,
                 }
             }
-        };
-        if l0 > t0 {
-            t0 = l0;
-            f0 = LATERAL;
-        }
-        if l1 < t1 {
-            t1 = l1;
-            f1 = LATERAL;
-        }
-        if t0 < t1 {
-            out.push(Seg { t0, t1, f0, f1 });
-        }
+        })
     }
 
     pub(crate) fn normal(&self, face: u32, p: DVec3) -> DVec3 {

@@ -1,4 +1,4 @@
-use super::{quadratic, Seg};
+use super::Seg;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A sphere.
@@ -26,23 +26,24 @@ impl Sphere {
     #[inline]
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let oc = ray.origin - self.c;
-        // |dir| = 1; shifting the origin to the closest approach first keeps
-        // the discriminant accurate for distant spheres (Haines et al.,
-        // Ray Tracing Gems ch. 7).
+        // |dir| = 1: the ray comes closest to the centre at `t = -b`, a
+        // distance |f| away, and meets the sphere half a chord either side.
+        // Measured from the closest approach, the half chord stays accurate
+        // for distant spheres (Haines et al., Ray Tracing Gems ch. 7), and
+        // takes one square root and no division.
         let b = oc.dot(ray.dir);
         let f = oc - ray.dir * b;
         let disc = self.r2 - f.length_squared();
         if disc < 0.0 {
             return;
         }
-        if let Some((t0, t1)) = quadratic(1.0, b, oc.length_squared() - self.r2) {
-            out.push(Seg {
-                t0,
-                t1,
-                f0: 0,
-                f1: 0,
-            });
-        }
+        let h = disc.sqrt();
+        out.push(Seg {
+            t0: -b - h,
+            t1: -b + h,
+            f0: 0,
+            f1: 0,
+        });
     }
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {

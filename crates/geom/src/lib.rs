@@ -27,7 +27,7 @@ pub mod shape;
 pub mod table;
 mod trace;
 
-pub use lightbuf::{LightBuffer, PointBuffer};
+pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
 pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};

@@ -169,7 +169,9 @@ impl LightBuffer {
             clamped_cell(b, self.origin.1, self.scale.1, self.nv),
         )
     }
+}
 
+impl sealed::Zones for LightBuffer {
     /// The bounded zones a shadow ray from `p` may meet: the large ones
     /// and those of `p`'s cell (none off the grid), or `None` when `p` is
     /// not a number.
@@ -196,6 +198,10 @@ impl LightBuffer {
         let cell = self.start[c] as usize..self.start[c + 1] as usize;
         let behind = self.far[cell.clone()].partition_point(|&f| f < depth);
         Some((big, &self.items[cell.start + behind..cell.end]))
+    }
+
+    fn check(&self, ray: &Ray) {
+        debug_assert!((ray.dir - self.dir).length() < 1e-12);
     }
 }
 
@@ -467,7 +473,9 @@ impl PointBuffer {
     pub fn position(&self) -> DVec3 {
         self.pos
     }
+}
 
+impl sealed::Zones for PointBuffer {
     /// The bounded zones a shadow ray from `p` toward the light may meet:
     /// those holding the light and those of the cell of `p`'s direction
     /// that come nearer the light than `p`, or `None` when `p` is the
@@ -553,19 +561,43 @@ fn face_rect(lo: DVec3, hi: DVec3, f: usize, slack: f64) -> Option<[f64; 4]> {
     (u0 <= 1.0 && u1 >= -1.0 && v0 <= 1.0 && v1 >= -1.0).then_some([u0, v0, u1, v1])
 }
 
+/// A shadow-ray accelerator, for [`Prepared::occluded_by`]: a parallel
+/// light's [`LightBuffer`] or a point light's [`PointBuffer`].
+pub trait ShadowBuffer: sealed::Zones {}
+
+impl ShadowBuffer for LightBuffer {}
+impl ShadowBuffer for PointBuffer {}
+
+/// What [`Prepared::occluded_by`] asks of a buffer, kept out of the public
+/// interface.
+mod sealed {
+    use sv_math::{DVec3, Ray};
+
+    pub trait Zones {
+        /// The large zones and the zones of `p`'s cell that a shadow ray
+        /// from `p` may meet, or `None` to search everything.
+        fn zones_at(&self, p: DVec3) -> Option<(&[u32], &[u32])>;
+
+        /// Check (in debug builds) that `ray` is one of the buffer's.
+        fn check(&self, _ray: &Ray) {}
+    }
+}
+
 impl Prepared {
-    /// As [`Prepared::occluded`] for a shadow ray along the direction of
-    /// `lb` (a ray from [`LightBuffer::shadow_ray`]): the same answer,
-    /// looking only at the zones of the ray origin's cell.
+    /// As [`Prepared::occluded`] for a shadow ray toward the light of
+    /// `buf`: the same answer, looking only at the zones the buffer lists
+    /// for the ray's origin. Toward a parallel light the ray must come
+    /// from [`LightBuffer::shadow_ray`]; toward a point light `tmax` must
+    /// be no farther than the light.
     ///
-    /// `last` is the light buffer's shadow cache: the zone that blocked the
+    /// `last` is the buffer's shadow cache: the zone that blocked the
     /// previous shadow ray (`None` if it was not blocked). Neighbouring
     /// points are mostly shadowed by the same zone, so it is tried first;
     /// the answer does not depend on it.
     #[allow(clippy::too_many_arguments)]
-    pub fn occluded_along(
+    pub fn occluded_by<B: ShadowBuffer>(
         &self,
-        lb: &LightBuffer,
+        buf: &B,
         ray: &Ray,
         tmin: f64,
         tmax: f64,
@@ -573,46 +605,8 @@ impl Prepared {
         last: &mut Option<u32>,
         s: &mut Scratch,
     ) -> bool {
-        debug_assert!((ray.dir - lb.dir).length() < 1e-12);
-        self.occluded_listed(lb.zones_at(ray.origin), ray, tmin, tmax, skip, last, s)
-    }
-
-    /// As [`Prepared::occluded`] for a shadow ray from `ray.origin` toward
-    /// the light of `pb`, with `tmax` no farther than the light: the same
-    /// answer, looking only at the zones listed for the ray's direction.
-    /// `last` is the buffer's shadow cache, as for
-    /// [`Prepared::occluded_along`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn occluded_from(
-        &self,
-        pb: &PointBuffer,
-        ray: &Ray,
-        tmin: f64,
-        tmax: f64,
-        skip: Option<u32>,
-        last: &mut Option<u32>,
-        s: &mut Scratch,
-    ) -> bool {
-        self.occluded_listed(pb.zones_at(ray.origin), ray, tmin, tmax, skip, last, s)
-    }
-
-    /// The shadow test of a light buffer: `zones` are the large zones and
-    /// the cell's, or `None` to search everything. (Inlined into each
-    /// buffer's test: called, it costs the sun's shadow rays 1 % more
-    /// instructions.)
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn occluded_listed(
-        &self,
-        zones: Option<(&[u32], &[u32])>,
-        ray: &Ray,
-        tmin: f64,
-        tmax: f64,
-        skip: Option<u32>,
-        last: &mut Option<u32>,
-        s: &mut Scratch,
-    ) -> bool {
-        let Some((big, cell)) = zones else {
+        buf.check(ray);
+        let Some((big, cell)) = buf.zones_at(ray.origin) else {
             // A point that is not a number: let the full search decide.
             return self.occluded(ray, tmin, tmax, skip, s);
         };
@@ -703,15 +697,8 @@ mod tests {
                         let ray = lb.shadow_ray(o);
                         assert_eq!(ray, Ray::new(o, to_light));
                         let want = p.occluded(&ray, 1e-6, f64::INFINITY, None, &mut s);
-                        let got = p.occluded_along(
-                            &lb,
-                            &ray,
-                            1e-6,
-                            f64::INFINITY,
-                            None,
-                            &mut last,
-                            &mut s,
-                        );
+                        let got =
+                            p.occluded_by(&lb, &ray, 1e-6, f64::INFINITY, None, &mut last, &mut s);
                         assert_eq!(got, want, "origin {o:?} toward {to_light:?}");
                         met += usize::from(want);
                     }
@@ -750,7 +737,7 @@ mod tests {
                         let ray = Ray::new(o, d);
                         let r = d.length();
                         let want = p.occluded(&ray, 1e-6, r, None, &mut s);
-                        let got = p.occluded_from(&pb, &ray, 1e-6, r, None, &mut last, &mut s);
+                        let got = p.occluded_by(&pb, &ray, 1e-6, r, None, &mut last, &mut s);
                         assert_eq!(got, want, "origin {o:?}, light at {pos:?}");
                         met += usize::from(want);
                         lit += usize::from(!want);

@@ -294,7 +294,7 @@ impl Renderer {
                 let blocked = if let Some(Buffer::Parallel(lb)) = buffer {
                     let shadow = lb.shadow_ray(p);
                     self.prepared
-                        .occluded_along(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
+                        .occluded_by(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
                 } else if let Some(zones) = occ.sets.get(li).and_then(Option::as_ref) {
                     let shadow = Ray::new(p, to_light);
                     self.prepared
@@ -302,7 +302,7 @@ impl Renderer {
                 } else if let Some(Buffer::Point(pb)) = buffer {
                     let shadow = Ray::new(p, to_light);
                     self.prepared
-                        .occluded_from(pb, &shadow, eps, dist, skip, &mut occ.last[li], s)
+                        .occluded_by(pb, &shadow, eps, dist, skip, &mut occ.last[li], s)
                 } else {
                     let shadow = Ray::new(p, to_light);
                     self.prepared.occluded(&shadow, eps, dist, skip, s)

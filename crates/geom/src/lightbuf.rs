@@ -181,7 +181,7 @@ impl sealed::Zones for LightBuffer {
         }
         let depth = p.dot(self.dir);
         // Zones that do not reach past the origin lie behind the ray.
-        let big = &self.big[self.big_far.partition_point(|&f| f < depth)..];
+        let big = &self.big[prefix(&self.big_far, |f| f < depth)..];
         let (a, b) = (p.dot(self.u), p.dot(self.v));
         let (fa, fb) = (
             (a - self.origin.0) * self.scale.0,
@@ -196,12 +196,26 @@ impl sealed::Zones for LightBuffer {
         }
         let c = (fb as u32 * nu + fa as u32) as usize;
         let cell = self.start[c] as usize..self.start[c + 1] as usize;
-        let behind = self.far[cell.clone()].partition_point(|&f| f < depth);
+        let behind = prefix(&self.far[cell.clone()], |f| f < depth);
         Some((big, &self.items[cell.start + behind..cell.end]))
     }
 
     fn check(&self, ray: &Ray) {
         debug_assert!((ray.dir - self.dir).length() < 1e-12);
+    }
+}
+
+/// The length of the prefix of `keys` that passes `pred`, which holds for
+/// a prefix of them (sorted keys, as `partition_point`). Short lists, the
+/// usual case, are counted: the comparisons are independent of each other,
+/// where each step of a binary search waits for the load the step before
+/// chose (on the helicopter the search was 6 % of the frame).
+#[inline]
+fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
+    if keys.len() <= 16 {
+        keys.iter().map(|&k| usize::from(pred(k))).sum()
+    } else {
+        keys.partition_point(|&k| pred(k))
     }
 }
 
@@ -502,7 +516,7 @@ impl sealed::Zones for PointBuffer {
         };
         let range = self.start[cell] as usize..self.start[cell + 1] as usize;
         let r = d.length();
-        let nearer = self.near[range.clone()].partition_point(|&x| x <= r);
+        let nearer = prefix(&self.near[range.clone()], |x| x <= r);
         Some((&self.big, &self.items[range.start..range.start + nearer]))
     }
 }

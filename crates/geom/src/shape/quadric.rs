@@ -27,18 +27,27 @@ impl Ellipsoid {
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let o = self.inv * (ray.origin - self.c);
         let d = self.inv * ray.dir;
-        // Shift to the closest approach for accuracy, as for the sphere.
+        // In the unit sphere's frame: the closest approach to the centre,
+        // and half a chord either side, as for the sphere (one division,
+        // one root).
         let dd = d.length_squared();
-        let tc = -o.dot(d) / dd;
-        let oc = o + d * tc;
-        if let Some((t0, t1)) = quadratic(dd, 0.0, oc.length_squared() - 1.0) {
-            out.push(Seg {
-                t0: t0 + tc,
-                t1: t1 + tc,
-                f0: 0,
-                f1: 0,
-            });
+        if dd == 0.0 {
+            return;
         }
+        let inv = 1.0 / dd;
+        let tc = -o.dot(d) * inv;
+        let oc = o + d * tc;
+        let disc = 1.0 - oc.length_squared();
+        if disc < 0.0 {
+            return;
+        }
+        let h = (disc * inv).sqrt();
+        out.push(Seg {
+            t0: tc - h,
+            t1: tc + h,
+            f0: 0,
+            f1: 0,
+        });
     }
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {

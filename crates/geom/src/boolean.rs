@@ -81,10 +81,23 @@ fn flipped(mut b: Bound) -> Bound {
 
 /// `out = x ∩ y`.
 pub fn intersect(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
+    intersect_with(x, y.len(), |j| y[j], out, tol);
+}
+
+/// As [`intersect`], with `y`'s `n` spans made by `y(j)` (from a body's
+/// segments, without copying them into a list first).
+#[inline]
+pub(crate) fn intersect_with(
+    x: &[Span],
+    n: usize,
+    y: impl Fn(usize) -> Span,
+    out: &mut Vec<Span>,
+    tol: f64,
+) {
     out.clear();
     let (mut i, mut j) = (0, 0);
-    while i < x.len() && j < y.len() {
-        let (p, q) = (&x[i], &y[j]);
+    while i < x.len() && j < n {
+        let (p, q) = (&x[i], &y(j));
         let a = if p.a.t >= q.a.t { p.a } else { q.a };
         let b = if p.b.t <= q.b.t { p.b } else { q.b };
         if b.t - a.t > tol {
@@ -100,16 +113,29 @@ pub fn intersect(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
 
 /// `out = x − y`.
 pub fn subtract(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
+    subtract_with(x, y.len(), |j| y[j], out, tol);
+}
+
+/// As [`subtract`], with `y`'s `n` spans made by `y(j)` (as for
+/// [`intersect_with`]).
+#[inline]
+pub(crate) fn subtract_with(
+    x: &[Span],
+    n: usize,
+    y: impl Fn(usize) -> Span,
+    out: &mut Vec<Span>,
+    tol: f64,
+) {
     out.clear();
     let mut j = 0;
     for s in x {
         let mut start = s.a;
-        while j < y.len() && y[j].b.t <= start.t {
+        while j < n && y(j).b.t <= start.t {
             j += 1;
         }
         let mut k = j;
-        while k < y.len() && y[k].a.t < s.b.t {
-            let c = &y[k];
+        while k < n && y(k).a.t < s.b.t {
+            let c = &y(k);
             if c.a.t > start.t && c.a.t - start.t > tol {
                 out.push(Span {
                     a: start,

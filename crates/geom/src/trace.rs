@@ -1,7 +1,7 @@
 //! Ray queries: the first opaque region hit (front to back, lazily), any
 //! hit (shadows), and the full list of region partitions along a ray.
 
-use crate::boolean::{intersect, push_merged, subtract, Bound, Span};
+use crate::boolean::{intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Seg;
@@ -19,7 +19,6 @@ pub struct Scratch {
     segs: Vec<Seg>,
     cur: Vec<Span>,
     tmp: Vec<Span>,
-    body: Vec<Span>,
     tagged: Vec<(u32, Span)>,
     stack: Stack,
 }
@@ -33,7 +32,6 @@ impl Scratch {
             segs: Vec::with_capacity(64),
             cur: Vec::with_capacity(16),
             tmp: Vec::with_capacity(16),
-            body: Vec::with_capacity(16),
             tagged: Vec::new(),
             stack: Stack::new(),
         }
@@ -147,12 +145,6 @@ impl Prepared {
         s.stack = stack;
     }
 
-    /// Body `b`'s spans, from its segments `s.segs[a..e]`, into `s.body`.
-    fn load_body(b: u32, (a, e): (usize, usize), s: &mut Scratch) {
-        s.body.clear();
-        s.body.extend(spans(&s.segs[a..e], b));
-    }
-
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
     /// Returns false when there are none. The caller has checked that the
     /// ray meets the zone's bounds.
@@ -187,8 +179,9 @@ impl Prepared {
                 if i == 0 {
                     s.cur.extend(spans(&s.segs[a..e], b).filter(keep));
                 } else {
-                    Self::load_body(b, (a, e), s);
-                    intersect(&s.cur, &s.body, &mut s.tmp, self.tol);
+                    let segs = &s.segs[a..e];
+                    let y = |j: usize| span(&segs[j], b);
+                    intersect_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol);
                     std::mem::swap(&mut s.cur, &mut s.tmp);
                 }
                 if s.cur.is_empty() {
@@ -206,8 +199,9 @@ impl Prepared {
             if a == e || s.segs[a].t0 >= last || s.segs[e - 1].t1 <= first {
                 continue;
             }
-            Self::load_body(b, (a, e), s);
-            subtract(&s.cur, &s.body, &mut s.tmp, self.tol);
+            let segs = &s.segs[a..e];
+            let y = |j: usize| span(&segs[j], b);
+            subtract_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol);
             std::mem::swap(&mut s.cur, &mut s.tmp);
             if s.cur.is_empty() {
                 return false;
@@ -576,10 +570,16 @@ impl Prepared {
 /// A body's segments as spans bounded by its faces (not flipped:
 /// `subtract` flips the bounds it takes from a subtracted body).
 fn spans(segs: &[Seg], body: u32) -> impl Iterator<Item = Span> + '_ {
-    segs.iter().map(move |g| Span {
+    segs.iter().map(move |g| span(g, body))
+}
+
+/// One segment of `body` as a span (see [`spans`]).
+#[inline(always)]
+fn span(g: &Seg, body: u32) -> Span {
+    Span {
         a: Bound::new(g.t0, body, g.f0),
         b: Bound::new(g.t1, body, g.f1),
-    })
+    }
 }
 
 /// The volume swept by a bundle of rays (a tile of pixels): the

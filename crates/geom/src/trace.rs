@@ -149,20 +149,18 @@ impl Prepared {
     /// Returns false when there are none. The caller has checked that the
     /// ray meets the zone's bounds.
     fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
+        let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
+        s.cur.clear();
         if z.plus == 1 && z.minus == 0 {
             // A lone body: its spans are the zone's.
             let b = self.terms[z.first as usize];
             let (a, e) = self.body_segs(b, ray, s, true);
-            s.cur.clear();
-            s.cur
-                .extend(spans(&s.segs[a..e], b).filter(|sp| sp.b.t > lo && sp.a.t < hi));
+            s.cur.extend(spans(&s.segs[a..e], b).filter(keep));
             return !s.cur.is_empty();
         }
         let terms =
             &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
         let (plus, minus) = terms.split_at(z.plus as usize);
-        s.cur.clear();
-        let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         if plus.is_empty() {
             s.cur.push(Span {
                 a: Bound::new(f64::NEG_INFINITY, u32::MAX, 0),

@@ -8,8 +8,8 @@
 //! so its projection on that plane is a single point: it can only meet the
 //! zones whose projected bounds hold that point, which are the zones listed
 //! in the point's cell. Each cell's zones are sorted by how far their
-//! bounds reach toward the light, so the zones wholly behind the ray's
-//! origin are skipped with a binary search. Zones large beside the rest
+//! bounds reach toward the light, farthest first, so a shadow ray stops
+//! at the first zone wholly behind its origin. Zones large beside the rest
 //! (a ground under a vehicle) are kept apart in one list, so that they do
 //! not stretch the grid. A shadow test then looks at a handful of zones
 //! instead of walking the hierarchy.
@@ -35,10 +35,11 @@ pub struct LightBuffer {
     nu: usize,
     nv: usize,
     /// Zones of cell `c` are `items[start[c]..start[c + 1]]`, sorted by
-    /// `far`: how far (along `dir`) their bounds reach.
+    /// `short`: how far (along `dir`) their bounds reach, negated (so the
+    /// zones that reach past a point come first).
     start: Vec<u32>,
     items: Vec<u32>,
-    far: Vec<f64>,
+    short: Vec<f64>,
     /// The large zones, left out of the grid, sorted by `big_far`.
     big: Vec<u32>,
     big_far: Vec<f64>,
@@ -90,7 +91,7 @@ impl LightBuffer {
             nv: 1,
             start: vec![0, 0],
             items: Vec::new(),
-            far: Vec::new(),
+            short: Vec::new(),
             big: big.iter().map(|r| r.0).collect(),
             big_far: big.iter().map(|r| r.2).collect(),
         };
@@ -126,13 +127,14 @@ impl LightBuffer {
             }
             cells = (nu * nv) as f64 / 4.0;
         }
-        // In order of reach, so every cell's list comes out sorted.
-        (lb.start, lb.items, lb.far) = bin_by_cell(lb.nu * lb.nv, |visit| {
-            for (zi, r, f) in &rects {
+        // In order of reach, farthest first, so every cell's list comes out
+        // sorted.
+        (lb.start, lb.items, lb.short) = bin_by_cell(lb.nu * lb.nv, |visit| {
+            for (zi, r, f) in rects.iter().rev() {
                 let ((u0, u1), (v0, v1)) = lb.span(r);
                 for j in v0..=v1 {
                     for i in u0..=u1 {
-                        visit(j * lb.nu + i, *zi, *f);
+                        visit(j * lb.nu + i, *zi, -f);
                     }
                 }
             }
@@ -173,9 +175,9 @@ impl LightBuffer {
 
 impl sealed::Zones for LightBuffer {
     /// The bounded zones a shadow ray from `p` may meet: the large ones
-    /// and those of `p`'s cell (none off the grid), or `None` when `p` is
-    /// not a number.
-    fn zones_at(&self, p: DVec3) -> Option<(&[u32], &[u32])> {
+    /// and those of `p`'s cell (none off the grid) that reach past `p`, or
+    /// `None` when `p` is not a number.
+    fn zones_at(&self, p: DVec3) -> Option<Candidates<'_>> {
         if p.is_nan() {
             return None;
         }
@@ -192,12 +194,16 @@ impl sealed::Zones for LightBuffer {
         // where `usize` takes a dozen.
         let (nu, nv) = (self.nu as u32, self.nv as u32);
         if !(fa >= 0.0 && fb >= 0.0 && fa < f64::from(nu) && fb < f64::from(nv)) {
-            return Some((big, &[]));
+            return Some(Candidates::only(big));
         }
         let c = (fb as u32 * nu + fa as u32) as usize;
         let cell = self.start[c] as usize..self.start[c + 1] as usize;
-        let behind = prefix(&self.far[cell.clone()], |f| f < depth);
-        Some((big, &self.items[cell.start + behind..cell.end]))
+        Some(Candidates {
+            big,
+            cell: &self.items[cell.clone()],
+            keys: &self.short[cell],
+            bound: -depth,
+        })
     }
 
     fn check(&self, ray: &Ray) {
@@ -209,7 +215,7 @@ impl sealed::Zones for LightBuffer {
 /// a prefix of them (sorted keys, as `partition_point`). Short lists, the
 /// usual case, are counted: the comparisons are independent of each other,
 /// where each step of a binary search waits for the load the step before
-/// chose (on the helicopter the search was 6 % of the frame).
+/// chose (on the helicopter such a search was 6 % of the frame).
 #[inline]
 fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
     if keys.len() <= 16 {
@@ -303,9 +309,8 @@ fn project(b: &Aabb, u: DVec3, v: DVec3, pad: f64) -> [f64; 4] {
 /// A shadow ray from `p` toward the light runs along the line from the
 /// light to `p`, so it can only meet the zones listed in the cell of that
 /// direction; each cell's zones are sorted by how near the light their
-/// bounds come, so those farther from it than `p` are skipped with a
-/// binary search. Zones whose bounds hold the light are kept apart in one
-/// list.
+/// bounds come, so a shadow ray stops at the first zone farther from it
+/// than `p`. Zones whose bounds hold the light are kept apart in one list.
 #[derive(Clone, Debug)]
 pub struct PointBuffer {
     /// The light.
@@ -494,7 +499,7 @@ impl sealed::Zones for PointBuffer {
     /// those holding the light and those of the cell of `p`'s direction
     /// that come nearer the light than `p`, or `None` when `p` is the
     /// light or not a number.
-    fn zones_at(&self, p: DVec3) -> Option<(&[u32], &[u32])> {
+    fn zones_at(&self, p: DVec3) -> Option<Candidates<'_>> {
         let d = p - self.pos;
         let ad = d.abs();
         let a = if ad.x >= ad.y && ad.x >= ad.z {
@@ -512,12 +517,15 @@ impl sealed::Zones for PointBuffer {
         let (b, c) = others(a);
         let Some(cell) = self.faces[f].cell(d[b] / m, d[c] / m) else {
             // No zone is seen in that direction.
-            return Some((&self.big, &[]));
+            return Some(Candidates::only(&self.big));
         };
         let range = self.start[cell] as usize..self.start[cell + 1] as usize;
-        let r = d.length();
-        let nearer = prefix(&self.near[range.clone()], |x| x <= r);
-        Some((&self.big, &self.items[range.start..range.start + nearer]))
+        Some(Candidates {
+            big: &self.big,
+            cell: &self.items[range.clone()],
+            keys: &self.near[range],
+            bound: d.length(),
+        })
     }
 }
 
@@ -575,6 +583,39 @@ fn face_rect(lo: DVec3, hi: DVec3, f: usize, slack: f64) -> Option<[f64; 4]> {
     (u0 <= 1.0 && u1 >= -1.0 && v0 <= 1.0 && v1 >= -1.0).then_some([u0, v0, u1, v1])
 }
 
+/// The zones a shadow ray may meet, from a buffer: all of `big`, and the
+/// zones of a cell while their keys (sorted) are at most `bound`.
+pub struct Candidates<'a> {
+    big: &'a [u32],
+    cell: &'a [u32],
+    keys: &'a [f64],
+    bound: f64,
+}
+
+impl<'a> Candidates<'a> {
+    /// Only the zones of `big`.
+    fn only(big: &'a [u32]) -> Candidates<'a> {
+        Candidates {
+            big,
+            cell: &[],
+            keys: &[],
+            bound: f64::NEG_INFINITY,
+        }
+    }
+
+    /// The cell's zones that may be met, in order: the loop that tests
+    /// them stops at the first whose key is past the bound (no search for
+    /// where they end first).
+    fn cell(&self) -> impl Iterator<Item = u32> + 'a {
+        let bound = self.bound;
+        self.cell
+            .iter()
+            .zip(self.keys)
+            .take_while(move |(_, &k)| k <= bound)
+            .map(|(&zi, _)| zi)
+    }
+}
+
 /// A shadow-ray accelerator, for [`Prepared::occluded_by`]: a parallel
 /// light's [`LightBuffer`] or a point light's [`PointBuffer`].
 pub trait ShadowBuffer: sealed::Zones {}
@@ -585,12 +626,13 @@ impl ShadowBuffer for PointBuffer {}
 /// What [`Prepared::occluded_by`] asks of a buffer, kept out of the public
 /// interface.
 mod sealed {
+    use super::Candidates;
     use sv_math::{DVec3, Ray};
 
     pub trait Zones {
-        /// The large zones and the zones of `p`'s cell that a shadow ray
-        /// from `p` may meet, or `None` to search everything.
-        fn zones_at(&self, p: DVec3) -> Option<(&[u32], &[u32])>;
+        /// The zones that a shadow ray from `p` may meet, or `None` to
+        /// search everything.
+        fn zones_at(&self, p: DVec3) -> Option<Candidates<'_>>;
 
         /// Check (in debug builds) that `ray` is one of the buffer's.
         fn check(&self, _ray: &Ray) {}
@@ -620,20 +662,18 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         buf.check(ray);
-        let Some((big, cell)) = buf.zones_at(ray.origin) else {
+        let Some(zones) = buf.zones_at(ray.origin) else {
             // A point that is not a number: let the full search decide.
             return self.occluded(ray, tmin, tmax, skip, s);
         };
         s.new_ray();
         if let Some(z) = *last {
-            if self.any_opaque(&[z], skip, ray, tmin, tmax, s).is_some() {
+            if self.any_opaque([z], skip, ray, tmin, tmax, s).is_some() {
                 return true;
             }
         }
-        *last = self
-            .any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
-            .or_else(|| self.any_opaque(big, skip, ray, tmin, tmax, s))
-            .or_else(|| self.any_opaque(cell, skip, ray, tmin, tmax, s));
+        let all = (self.unbounded_opaque.iter().chain(zones.big).copied()).chain(zones.cell());
+        *last = self.any_opaque(all, skip, ray, tmin, tmax, s);
         last.is_some()
     }
 }

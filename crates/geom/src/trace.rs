@@ -395,8 +395,9 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         s.new_ray();
+        let unbounded = self.unbounded_opaque.iter().copied();
         if self
-            .any_opaque(&self.unbounded_opaque, skip, ray, tmin, tmax, s)
+            .any_opaque(unbounded, skip, ray, tmin, tmax, s)
             .is_some()
         {
             return true;
@@ -404,7 +405,9 @@ impl Prepared {
         let mut limit = tmax;
         let mut found = false;
         self.leaves(&self.bvh_opaque, ray, tmin, &mut limit, s, |items, _, s| {
-            found = self.any_opaque(items, skip, ray, tmin, tmax, s).is_some();
+            found = self
+                .any_opaque(items.iter().copied(), skip, ray, tmin, tmax, s)
+                .is_some();
             found
         });
         found
@@ -433,7 +436,8 @@ impl Prepared {
         s: &mut Scratch,
     ) -> bool {
         s.new_ray();
-        self.any_opaque(zones, skip, ray, tmin, tmax, s).is_some()
+        self.any_opaque(zones.iter().copied(), skip, ray, tmin, tmax, s)
+            .is_some()
     }
 
     /// The first of `zones` (other than `skip`) found on the ray within
@@ -441,14 +445,14 @@ impl Prepared {
     /// for a new ray.
     pub(crate) fn any_opaque(
         &self,
-        zones: &[u32],
+        zones: impl IntoIterator<Item = u32>,
         skip: Option<u32>,
         ray: &Ray,
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
     ) -> Option<u32> {
-        zones.iter().copied().find(|&zi| {
+        zones.into_iter().find(|&zi| {
             let z = &self.zones[zi as usize];
             Some(zi) != skip
                 && hits(&z.bounds, ray, tmin, tmax).is_some()

@@ -15,6 +15,7 @@
 //! instead of walking the hierarchy.
 
 use crate::prepare::Prepared;
+use crate::shape::Shape;
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
@@ -40,9 +41,14 @@ pub struct LightBuffer {
     start: Vec<u32>,
     items: Vec<u32>,
     short: Vec<f64>,
-    /// The large zones, left out of the grid, sorted by `big_far`.
+    /// The large zones, left out of the grid's extent, sorted by
+    /// `big_far`: tested by shadow rays from off the grid.
     big: Vec<u32>,
     big_far: Vec<f64>,
+    /// Those of them not also listed in the cells they cover, sorted by
+    /// `loose_far`: tested by every shadow ray from the grid.
+    loose: Vec<u32>,
+    loose_far: Vec<f64>,
 }
 
 /// Upper bound on the number of cells.
@@ -94,6 +100,8 @@ impl LightBuffer {
             short: Vec::new(),
             big: big.iter().map(|r| r.0).collect(),
             big_far: big.iter().map(|r| r.2).collect(),
+            loose: big.iter().map(|r| r.0).collect(),
+            loose_far: big.iter().map(|r| r.2).collect(),
         };
         let (wu, wv) = (ext[2] - ext[0], ext[3] - ext[1]);
         if rects.is_empty() || !(wu.is_finite() && wv.is_finite()) {
@@ -127,19 +135,79 @@ impl LightBuffer {
             }
             cells = (nu * nv) as f64 / 4.0;
         }
+        // The large zones are listed in the cells they cover as well, when
+        // that adds no more references than the grid was sized for (or
+        // than it has cells): a shadow ray from the grid then meets only
+        // those over its cell. (Nine of the helicopter's 24 zones are large
+        // beside the rest, its rotor blades among them, and every shadow
+        // ray tested them all.)
+        let cells_of = |r: &[f64; 4]| {
+            let ((u0, u1), (v0, v1)) = lb.span(r);
+            (u1 - u0 + 1) * (v1 - v0 + 1)
+        };
+        type Rect<'a> = &'a (u32, [f64; 4], f64);
+        let (gridded, loose): (Vec<Rect>, Vec<Rect>) = big
+            .iter()
+            .partition(|(_, r, f)| r.iter().all(|x| x.is_finite()) && f.is_finite());
+        let own: usize = rects.iter().map(|(_, r, _)| cells_of(r)).sum();
+        let extra: usize = gridded.iter().map(|(_, r, _)| cells_of(r)).sum();
+        let budget = own.max(MAX_REFS_PER_ZONE * rects.len()) + lb.nu * lb.nv;
+        let (gridded, loose) = if extra <= budget {
+            (gridded, loose)
+        } else {
+            (Vec::new(), big.iter().collect())
+        };
+        lb.loose = loose.iter().map(|r| r.0).collect();
+        lb.loose_far = loose.iter().map(|r| r.2).collect();
+        let mut listed: Vec<Rect> = rects.iter().chain(gridded).collect();
+        listed.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+        // A zone is listed in the cells its outline meets, when it has one,
+        // else in every cell its rectangle covers.
+        let outlines: Vec<Option<Vec<[f64; 2]>>> = listed
+            .iter()
+            .map(|(zi, _, _)| outline(p, *zi, u, v))
+            .collect();
         // In order of reach, farthest first, so every cell's list comes out
         // sorted.
         (lb.start, lb.items, lb.short) = bin_by_cell(lb.nu * lb.nv, |visit| {
-            for (zi, r, f) in rects.iter().rev() {
+            for ((zi, r, f), hull) in listed.iter().zip(&outlines).rev() {
                 let ((u0, u1), (v0, v1)) = lb.span(r);
                 for j in v0..=v1 {
                     for i in u0..=u1 {
-                        visit(j * lb.nu + i, *zi, -f);
+                        if hull.as_ref().is_none_or(|h| lb.cell_meets(i, j, h, pad)) {
+                            visit(j * lb.nu + i, *zi, -f);
+                        }
                     }
                 }
             }
         });
         lb
+    }
+
+    /// Whether cell (`i`, `j`) meets the convex polygon `hull`
+    /// (counter-clockwise) grown by `slack`: false only when one of the
+    /// polygon's edges has the whole cell clearly outside.
+    fn cell_meets(&self, i: usize, j: usize, hull: &[[f64; 2]], slack: f64) -> bool {
+        let (a0, b0) = (
+            self.origin.0 + i as f64 / self.scale.0,
+            self.origin.1 + j as f64 / self.scale.1,
+        );
+        let (a1, b1) = (
+            self.origin.0 + (i + 1) as f64 / self.scale.0,
+            self.origin.1 + (j + 1) as f64 / self.scale.1,
+        );
+        // Rounding in the cell's corners and in a shadow ray's projection.
+        let slack = slack + 1e-9 * (a0.abs().max(a1.abs()) + b0.abs().max(b1.abs()));
+        let corners = [[a0, b0], [a1, b0], [a1, b1], [a0, b1]];
+        (0..hull.len()).all(|k| {
+            let (p, q) = (hull[k], hull[(k + 1) % hull.len()]);
+            // Outward normal of edge p → q of a counter-clockwise polygon.
+            let (nx, ny) = (q[1] - p[1], p[0] - q[0]);
+            let limit = slack * nx.hypot(ny);
+            corners
+                .iter()
+                .any(|c| nx * (c[0] - p[0]) + ny * (c[1] - p[1]) <= limit)
+        })
     }
 
     /// The direction toward the light, as given to [`LightBuffer::new`].
@@ -182,8 +250,6 @@ impl sealed::Zones for LightBuffer {
             return None;
         }
         let depth = p.dot(self.dir);
-        // Zones that do not reach past the origin lie behind the ray.
-        let big = &self.big[prefix(&self.big_far, |f| f < depth)..];
         let (a, b) = (p.dot(self.u), p.dot(self.v));
         let (fa, fb) = (
             (a - self.origin.0) * self.scale.0,
@@ -193,13 +259,16 @@ impl sealed::Zones for LightBuffer {
         // go through `u32`, which converts in one or two instructions
         // where `usize` takes a dozen.
         let (nu, nv) = (self.nu as u32, self.nv as u32);
+        // Zones that do not reach past the origin lie behind the ray.
         if !(fa >= 0.0 && fb >= 0.0 && fa < f64::from(nu) && fb < f64::from(nv)) {
-            return Some(Candidates::only(big));
+            return Some(Candidates::only(
+                &self.big[prefix(&self.big_far, |f| f < depth)..],
+            ));
         }
         let c = (fb as u32 * nu + fa as u32) as usize;
         let cell = self.start[c] as usize..self.start[c + 1] as usize;
         Some(Candidates {
-            big,
+            big: &self.loose[prefix(&self.loose_far, |f| f < depth)..],
             cell: &self.items[cell.clone()],
             keys: &self.short[cell],
             bound: -depth,
@@ -223,6 +292,55 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
     } else {
         keys.partition_point(|&k| pred(k))
     }
+}
+
+/// A convex polygon on the plane of `u` and `v` (counter-clockwise) that
+/// holds the projection of zone `zi`, where a tighter one than its box's
+/// is at hand: the outline of the corners of one of its `+` bodies that is
+/// a bounded polyhedron. (A rotor blade set at an angle to the axes covers
+/// a tenth of its box's projection.)
+fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
+    let z = &p.zones[zi as usize];
+    let plus = &p.terms[z.first as usize..z.first as usize + z.plus as usize];
+    let corners = plus.iter().find_map(|&b| match &p.shapes[b as usize] {
+        Shape::Polyhedron(ph) => ph.corners(p.tol),
+        _ => None,
+    })?;
+    let hull = convex_hull_2d(corners.iter().map(|c| [c.dot(u), c.dot(v)]).collect());
+    (hull.len() >= 3).then_some(hull)
+}
+
+/// The convex hull of points on a plane, counter-clockwise, without
+/// collinear points (Andrew's monotone chain).
+fn convex_hull_2d(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let mut half = |q: [f64; 2]| {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(q);
+        };
+        if pass == 0 {
+            pts.iter().for_each(|&q| half(q));
+        } else {
+            pts.iter().rev().for_each(|&q| half(q));
+        }
+        // The last point of each half is the first of the other.
+        hull.pop();
+    }
+    hull
 }
 
 /// The cell of `x` along a grid axis of `n` cells from `origin`, `scale`
@@ -843,13 +961,133 @@ mod tests {
     fn a_cell_lists_few_zones_and_the_ground_stays_apart() {
         let p = spheres(20);
         let lb = LightBuffer::new(&p, DVec3::new(0.1, 0.2, 1.0));
+        // The ground does not stretch the grid: it is kept apart for rays
+        // from off the grid, and listed in the cells, which it all covers.
         assert_eq!(lb.big, [0], "the ground is kept apart");
+        assert!(lb.loose.is_empty());
         let cells = lb.start.len() - 1;
         let longest = (0..cells)
             .map(|c| lb.start[c + 1] - lb.start[c])
             .max()
             .unwrap();
         assert!(cells >= 400, "{cells} cells");
-        assert!(longest <= 8, "a cell lists {longest} of 400 zones");
+        assert!(
+            longest <= 9,
+            "a cell lists {longest} of 401 zones, the ground among them"
+        );
+        assert!((0..cells)
+            .all(|c| lb.items[lb.start[c] as usize..lb.start[c + 1] as usize].contains(&0)));
+    }
+
+    /// Four long thin boxes turned 30° about z (rotor blades) and a wide
+    /// plate turned the same way, over a lattice of small spheres on a
+    /// ground slab; the boxes are large beside the spheres.
+    fn blades() -> Prepared {
+        let mut g = Geometry::default();
+        let mut add = |kind, params: Vec<f64>| {
+            let b = g.bodies.len();
+            g.bodies.push(Body::new(format!("b{b}"), kind, params));
+            g.regions.push(Region {
+                name: format!("r{b}"),
+                zones: vec![Zone {
+                    terms: vec![Term {
+                        op: Op::Inside,
+                        body: b,
+                    }],
+                }],
+            });
+        };
+        add(BodyKind::Rpp, vec![-12.0, 12.0, -12.0, 12.0, -1.0, 0.0]);
+        for i in 0..5 {
+            for j in 0..5 {
+                let (x, y) = (-10.0 + 5.0 * i as f64, -10.0 + 5.0 * j as f64);
+                add(BodyKind::Sph, vec![x, y, 1.0, 0.5]);
+            }
+        }
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let plate = [8.0 * c, 8.0 * s, 0.0, -5.0 * s, 5.0 * c, 0.0, 0.0, 0.0, 0.2];
+        add(
+            BodyKind::Box,
+            [vec![-2.0, -6.0, 6.0], plate.to_vec()].concat(),
+        );
+        for k in 0..4 {
+            let z = 3.0 + k as f64 * 0.5;
+            let (along, across) = ([10.0 * c, 10.0 * s], [-0.3 * s, 0.3 * c]);
+            add(
+                BodyKind::Box,
+                vec![
+                    -5.0 * c + k as f64,
+                    -5.0 * s,
+                    z,
+                    along[0],
+                    along[1],
+                    0.0,
+                    across[0],
+                    across[1],
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.1,
+                ],
+            );
+        }
+        Prepared::new(&g, &PrepareOptions::default()).unwrap().0
+    }
+
+    #[test]
+    fn turned_thin_boxes_are_listed_only_where_they_lie() {
+        let p = blades();
+        let mut s = Scratch::new(&p);
+        let mut met = 0;
+        for to_light in [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.3, -0.2, 1.0),
+            DVec3::new(-1.0, 0.5, 0.4),
+        ] {
+            let lb = LightBuffer::new(&p, to_light);
+            // A blade covers a fifth of its box's shadow at most: its
+            // outline leaves most of the box's cells alone.
+            let listed = lb.items.iter().filter(|&&z| z >= 27).count();
+            let boxed: usize = (27..31)
+                .map(|zi| {
+                    let b = p.zones[zi].bounds;
+                    let ((u0, u1), (v0, v1)) = lb.span(&project(&b, lb.u, lb.v, 4.0 * p.tol));
+                    (u1 - u0 + 1) * (v1 - v0 + 1)
+                })
+                .sum();
+            assert!(2 * listed < boxed, "{listed} of {boxed} cells");
+            let mut last = None;
+            for a in 0..60 {
+                for b in 0..60 {
+                    for h in [0.5, 1.2, 3.2, 5.0] {
+                        let o = DVec3::new(-11.0 + a as f64 * 0.37, -11.0 + b as f64 * 0.37, h);
+                        let ray = lb.shadow_ray(o);
+                        let want = p.occluded(&ray, 1e-6, f64::INFINITY, None, &mut s);
+                        let got =
+                            p.occluded_by(&lb, &ray, 1e-6, f64::INFINITY, None, &mut last, &mut s);
+                        assert_eq!(got, want, "origin {o:?} toward {to_light:?}");
+                        met += usize::from(want);
+                    }
+                }
+            }
+        }
+        assert!(met > 1000, "the blades should shadow often: {met}");
+    }
+
+    #[test]
+    fn the_hull_of_points_on_a_plane_runs_counter_clockwise_without_inner_points() {
+        let pts = vec![
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [1.0, 1.0],
+            [2.0, 2.0],
+            [0.0, 2.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+        ];
+        assert_eq!(
+            convex_hull_2d(pts),
+            [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
+        );
     }
 }

@@ -63,6 +63,50 @@ impl Polyhedron {
         }
     }
 
+    /// Points whose convex hull holds the polyhedron: where three of its
+    /// planes meet inside all the others (within `eps`, so that rounding
+    /// can only add points, never drop a corner). `None` for a polyhedron
+    /// with infinite bounds, with too many planes to try every triple, or
+    /// whose corners do not pass the checks below.
+    pub(crate) fn corners(&self, eps: f64) -> Option<Vec<DVec3>> {
+        let n = self.planes.len();
+        if !self.bounds.is_finite() || n > 12 {
+            return None;
+        }
+        let p = &self.planes;
+        let mut out = Vec::new();
+        for i in 0..n {
+            for j in i + 1..n {
+                for k in j + 1..n {
+                    // Cramer's rule on n_i·x = d_i, n_j·x = d_j, n_k·x = d_k.
+                    let (a, b, c) = (p[i].n, p[j].n, p[k].n);
+                    let bc = b.cross(c);
+                    let det = a.dot(bc);
+                    if det.abs() < 1e-9 {
+                        continue;
+                    }
+                    let x = (bc * p[i].d + c.cross(a) * p[j].d + a.cross(b) * p[k].d) / det;
+                    if x.is_finite() && p.iter().all(|q| q.n.dot(x) <= q.d + eps) {
+                        out.push(x);
+                    }
+                }
+            }
+        }
+        // Checks that no corner was lost to a badly conditioned triple:
+        // the corners reach the bounds (made from the vertices) on every
+        // side, and every face has at least three of them.
+        let reach = Aabb::from_points(out.iter().copied());
+        let reaches = (reach.min - self.bounds.min).max_element() <= eps
+            && (self.bounds.max - reach.max).max_element() <= eps;
+        let faces = p.iter().all(|q| {
+            out.iter()
+                .filter(|x| (q.n.dot(**x) - q.d).abs() <= eps)
+                .count()
+                >= 3
+        });
+        (out.len() >= 4 && reaches && faces).then_some(out)
+    }
+
     pub(crate) fn normal(&self, face: u32) -> DVec3 {
         self.planes[face as usize].n
     }
@@ -174,5 +218,23 @@ mod tests {
         let h = convex_hull_planes(&pts, 1e-9);
         assert_eq!(h.planes.len(), 6);
         assert!((h.volume - 1.0).abs() < 1e-12);
+        // Its corners come back from its planes.
+        let bounds = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        let mut corners = Polyhedron::new(h.planes, bounds).corners(1e-9).unwrap();
+        corners.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+        pts.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+        assert_eq!(corners.len(), 8);
+        for (c, p) in corners.iter().zip(&pts) {
+            assert!((*c - *p).length() < 1e-12, "{c} against {p}");
+        }
+        // A half-space has no corners to give.
+        let half = Polyhedron::new(
+            vec![Plane {
+                n: DVec3::Z,
+                d: 1.0,
+            }],
+            Aabb::new(DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
+        );
+        assert!(half.corners(1e-9).is_none());
     }
 }

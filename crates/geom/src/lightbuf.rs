@@ -15,7 +15,6 @@
 //! instead of walking the hierarchy.
 
 use crate::prepare::Prepared;
-use crate::shape::Shape;
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
@@ -296,16 +295,15 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
 
 /// A convex polygon on the plane of `u` and `v` (counter-clockwise) that
 /// holds the projection of zone `zi`, where a tighter one than its box's
-/// is at hand: the outline of the corners of one of its `+` bodies that is
-/// a bounded polyhedron. (A rotor blade set at an angle to the axes covers
-/// a tenth of its box's projection.)
+/// may be at hand: the outline of the hull points of one of its `+` bodies
+/// ([`Shape::hull_points`]). (A rotor blade set at an angle to the axes
+/// covers a tenth of its box's projection.)
 fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
     let z = &p.zones[zi as usize];
     let plus = &p.terms[z.first as usize..z.first as usize + z.plus as usize];
-    let corners = plus.iter().find_map(|&b| match &p.shapes[b as usize] {
-        Shape::Polyhedron(ph) => ph.corners(p.tol),
-        _ => None,
-    })?;
+    let corners = plus
+        .iter()
+        .find_map(|&b| p.shapes[b as usize].hull_points(p.tol))?;
     let hull = convex_hull_2d(corners.iter().map(|c| [c.dot(u), c.dot(v)]).collect());
     (hull.len() >= 3).then_some(hull)
 }

@@ -88,6 +88,14 @@ impl Cone {
         }
     }
 
+    /// Corners of the parallelograms around its two end ellipses: their
+    /// hull holds the cone.
+    pub(crate) fn corners(&self) -> Vec<DVec3> {
+        let (a, b, h) = (self.f.m.x_axis, self.f.m.y_axis, self.f.m.z_axis);
+        let r = 1.0 + self.k;
+        super::ends((self.f.v, a, b), (self.f.v + h, a * r, b * r))
+    }
+
     #[inline]
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);

@@ -26,6 +26,16 @@ pub use torus::Torus;
 
 use sv_math::{Aabb, DVec3, Ray};
 
+/// The corners `c ± a ± b` of two parallelograms, given as `(c, a, b)`:
+/// their convex hull holds a prism or a truncated cone whose ends lie in
+/// them.
+fn ends(p: (DVec3, DVec3, DVec3), q: (DVec3, DVec3, DVec3)) -> Vec<DVec3> {
+    [p, q]
+        .iter()
+        .flat_map(|&(c, a, b)| [c - a - b, c + a - b, c + a + b, c - a + b])
+        .collect()
+}
+
 /// A stretch of the ray inside a body, with the faces crossed at its ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seg {
@@ -128,6 +138,25 @@ impl Shape {
         }
     }
 
+    /// A few points whose convex hull holds the body, tighter than its
+    /// bounds' corners for a body turned to the axes, where it has such a
+    /// set: a bounded polyhedron's corners (see [`Polyhedron::corners`],
+    /// `eps`), or the corners of the box or parallelepiped around a cone's
+    /// two ends or an ellipsoid's axes.
+    pub(crate) fn hull_points(&self, eps: f64) -> Option<Vec<DVec3>> {
+        match self {
+            Shape::Polyhedron(s) => s.corners(eps),
+            Shape::Cone(s) => Some(s.corners()),
+            Shape::Ellipsoid(s) => Some(s.corners()),
+            Shape::Rpp(s) => {
+                let (c, e) = (s.bounds().center(), s.bounds().size() * 0.5);
+                let (x, y, z) = (e * DVec3::X, e * DVec3::Y, e * DVec3::Z);
+                Some(ends((c - z, x, y), (c + z, x, y)))
+            }
+            _ => None,
+        }
+    }
+
     /// True for shapes whose segments are always a single convex stretch.
     pub fn is_convex(&self) -> bool {
         !matches!(
@@ -194,3 +223,63 @@ pub(crate) fn segments_by_classification(
     out.extend(cur);
 }
 pub(crate) use polyhedron::convex_hull_planes as polyhedron_hull;
+
+#[cfg(test)]
+mod tests {
+    use super::polyhedron::convex_hull_planes;
+    use super::*;
+    use sv_math::DMat3;
+
+    /// Points on the surface of `s`, where rays from `inside` in many
+    /// directions leave it.
+    fn surface(s: &Shape, inside: DVec3) -> Vec<DVec3> {
+        let mut out = Vec::new();
+        let mut segs = Vec::new();
+        for i in 0..40 {
+            for j in 0..20 {
+                let (az, el) = (i as f64 * 0.157, -1.5 + j as f64 * 0.157);
+                let d = DVec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin());
+                let ray = Ray::new(inside, d);
+                segs.clear();
+                s.shoot(&ray, &mut segs);
+                out.extend(segs.iter().map(|g| ray.at(g.t1)));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn hull_points_hold_turned_bodies() {
+        let (a, b, h) = (
+            DVec3::new(0.8, 0.6, 0.0) * 0.3,
+            DVec3::new(-0.6, 0.8, 0.2).normalize() * 0.2,
+            DVec3::new(4.0, 1.0, 2.0),
+        );
+        let v = DVec3::new(1.0, -2.0, 0.5);
+        let shapes = [
+            (Shape::Cone(Cone::new(v, a, b, h, 0.4)), v + h * 0.3),
+            (
+                Shape::Ellipsoid(Ellipsoid::new(v, DMat3::from_cols(h * 0.5, a, b))),
+                v,
+            ),
+            (
+                Shape::Rpp(Rpp::new(Aabb::new(v, v + DVec3::new(3.0, 0.2, 1.0)))),
+                v + DVec3::new(1.5, 0.1, 0.5),
+            ),
+        ];
+        for (s, inside) in &shapes {
+            let pts = s.hull_points(1e-9).expect("a bounded convex body");
+            let hull = convex_hull_planes(&pts, 1e-12);
+            let on = surface(s, *inside);
+            assert!(on.len() > 700, "{s:?}");
+            for p in on {
+                for pl in &hull.planes {
+                    assert!(pl.n.dot(p) <= pl.d + 1e-9, "{p} outside the hull of {s:?}");
+                }
+            }
+            // Tighter than the bounds' box for these turned bodies.
+            let b = s.bounds().size();
+            assert!(hull.volume < 0.9 * b.x * b.y * b.z || matches!(s, Shape::Rpp(_)));
+        }
+    }
+}

@@ -23,6 +23,13 @@ impl Ellipsoid {
         }
     }
 
+    /// Corners of the parallelepiped spanned by its semi-axes: their hull
+    /// holds the ellipsoid.
+    pub(crate) fn corners(&self) -> Vec<DVec3> {
+        let (a, b, h) = (self.m.x_axis, self.m.y_axis, self.m.z_axis);
+        super::ends((self.c - h, a, b), (self.c + h, a, b))
+    }
+
     #[inline]
     pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let o = self.inv * (ray.origin - self.c);

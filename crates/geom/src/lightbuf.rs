@@ -15,6 +15,7 @@
 //! instead of walking the hierarchy.
 
 use crate::prepare::Prepared;
+use crate::shape::Shape;
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
@@ -296,15 +297,31 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
 /// A convex polygon on the plane of `u` and `v` (counter-clockwise) that
 /// holds the projection of zone `zi`, where a tighter one than its box's
 /// may be at hand: the outline of the hull points of one of its `+` bodies
-/// ([`Shape::hull_points`]). (A rotor blade set at an angle to the axes
-/// covers a tenth of its box's projection.)
+/// ([`Shape::hull_points`]), or the octagon around a sphere's. (A rotor
+/// blade set at an angle to the axes covers a tenth of its box's
+/// projection; a sphere's box, seen along a diagonal, casts a hexagon
+/// whose rectangle has three times the area of the sphere's disc.)
 fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
     let z = &p.zones[zi as usize];
     let plus = &p.terms[z.first as usize..z.first as usize + z.plus as usize];
-    let corners = plus
-        .iter()
-        .find_map(|&b| p.shapes[b as usize].hull_points(p.tol))?;
-    let hull = convex_hull_2d(corners.iter().map(|c| [c.dot(u), c.dot(v)]).collect());
+    let hull = plus.iter().find_map(|&b| match &p.shapes[b as usize] {
+        // A sphere's shadow is a disc: the regular octagon around it.
+        Shape::Sphere(sp) => {
+            let (cu, cv) = (sp.c.dot(u), sp.c.dot(v));
+            let r = sp.r / (std::f64::consts::PI / 8.0).cos();
+            Some(
+                (0..8)
+                    .map(|k| {
+                        let a = (2 * k + 1) as f64 * std::f64::consts::PI / 8.0;
+                        [cu + r * a.cos(), cv + r * a.sin()]
+                    })
+                    .collect(),
+            )
+        }
+        shape => shape
+            .hull_points(p.tol)
+            .map(|pts| convex_hull_2d(pts.iter().map(|c| [c.dot(u), c.dot(v)]).collect())),
+    })?;
     (hull.len() >= 3).then_some(hull)
 }
 

@@ -4,7 +4,7 @@
 use crate::boolean::{intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared};
-use crate::shape::Seg;
+use crate::shape::{Seg, Shape};
 use sv_math::{Aabb, DVec3, Ray};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
@@ -342,7 +342,18 @@ impl Prepared {
     /// (unbounded zones first). Gives up and returns false as soon as there
     /// are more than `max`: the rays had better walk the hierarchy then.
     pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
-        self.zones_meeting(max, out, |b| f.may_meet(b))
+        let few = self.zones_meeting(max, out, |b| f.may_meet(b));
+        // A zone cut from a sphere whose box the frustum meets may still
+        // lie beside it: the frustum can pass a box's corner and miss the
+        // ball inside (in a crowd of spheres, a tenth of a tile's list).
+        out.retain(|&zi| {
+            let z = &self.zones[zi as usize];
+            match (z.plus > 0).then(|| &self.shapes[self.terms[z.first as usize] as usize]) {
+                Some(Shape::Sphere(sp)) => f.may_meet_ball(sp.c, sp.r),
+                _ => true,
+            }
+        });
+        few
     }
 
     /// The opaque zones whose bounds pass `meets` (unbounded zones always),
@@ -589,8 +600,9 @@ fn span(g: &Seg, body: u32) -> Span {
 /// it must contain every ray of the bundle.
 #[derive(Clone, Copy, Debug)]
 pub struct Frustum {
-    /// Normal `n`, offset `d` and the rounding slack `1e-9 (|d| + |n|)`.
-    planes: [(DVec3, f64, f64); 4],
+    /// Normal `n`, offset `d`, the rounding slack `1e-9 (|d| + |n|)` and
+    /// `|n|`.
+    planes: [(DVec3, f64, f64, f64); 4],
 }
 
 impl Frustum {
@@ -609,14 +621,14 @@ impl Frustum {
                 n = -n;
             }
             let d = n.dot(a.origin);
-            (n, d, 1e-9 * (d.abs() + n.length()))
+            (n, d, 1e-9 * (d.abs() + n.length()), n.length())
         });
         Frustum { planes }
     }
 
     /// False only when the box lies wholly outside.
     pub fn may_meet(&self, b: &sv_math::Aabb) -> bool {
-        self.planes.iter().all(|&(n, d, slack)| {
+        self.planes.iter().all(|&(n, d, slack, _)| {
             let p = DVec3::new(
                 if n.x > 0.0 { b.max.x } else { b.min.x },
                 if n.y > 0.0 { b.max.y } else { b.min.y },
@@ -626,6 +638,16 @@ impl Frustum {
             // Rounding slack: rule a box out only when clearly outside.
             // (A NaN compares as unordered and keeps the box.)
             v.partial_cmp(&(d - slack - 1e-9 * v.abs())) != Some(std::cmp::Ordering::Less)
+        })
+    }
+
+    /// False only when the ball of centre `c` and radius `r` lies wholly
+    /// outside.
+    pub fn may_meet_ball(&self, c: DVec3, r: f64) -> bool {
+        self.planes.iter().all(|&(n, d, slack, len)| {
+            let v = n.dot(c) + r * len;
+            v.partial_cmp(&(d - slack - 1e-9 * (v.abs() + r * len)))
+                != Some(std::cmp::Ordering::Less)
         })
     }
 }
@@ -687,5 +709,30 @@ impl Prepared {
                 .collect();
         }
         steps
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frustum_rules_out_a_ball_whose_box_it_meets() {
+        // Rays from the origin through the square |x|, |y| <= 1 at z = 1.
+        let f = Frustum::from_corners(
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(x, y)| Ray::new(DVec3::ZERO, DVec3::new(x, y, 1.0))),
+        );
+        let ball = |c: DVec3, r: f64| (f.may_meet(&Aabb::new(c - r, c + r)), f.may_meet_ball(c, r));
+        // 0.71 beyond the side x = z: its box reaches over the side.
+        assert_eq!(ball(DVec3::new(2.0, 0.0, 1.0), 0.6), (true, false));
+        // 0.57 beyond it: the ball reaches over too.
+        assert_eq!(ball(DVec3::new(1.8, 0.0, 1.0), 0.6), (true, true));
+        assert_eq!(ball(DVec3::new(0.0, 0.0, 5.0), 0.1), (true, true));
+        assert_eq!(ball(DVec3::new(9.0, 0.0, 1.0), 0.6), (false, false));
+        // Grazing: kept.
+        let graze = DVec3::new(2.0, 0.0, 1.0);
+        let r = (2.0 - 1.0) / 2f64.sqrt();
+        assert!(f.may_meet_ball(graze, r));
     }
 }

@@ -14,7 +14,7 @@
 //! not stretch the grid. A shadow test then looks at a handful of zones
 //! instead of walking the hierarchy.
 
-use crate::prepare::Prepared;
+use crate::prepare::{Prepared, Tight};
 use crate::shape::Shape;
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
@@ -302,26 +302,29 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
 /// projection; a sphere's box, seen along a diagonal, casts a hexagon
 /// whose rectangle has three times the area of the sphere's disc.)
 fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
-    let z = &p.zones[zi as usize];
-    let plus = &p.terms[z.first as usize..z.first as usize + z.plus as usize];
-    let hull = plus.iter().find_map(|&b| match &p.shapes[b as usize] {
+    let hull = match p.tight[zi as usize] {
+        Tight::Box => return None,
         // A sphere's shadow is a disc: the regular octagon around it.
-        Shape::Sphere(sp) => {
+        Tight::Ball(b) => {
+            let Shape::Sphere(sp) = &p.shapes[b as usize] else {
+                return None;
+            };
             let (cu, cv) = (sp.c.dot(u), sp.c.dot(v));
             let r = sp.r / (std::f64::consts::PI / 8.0).cos();
-            Some(
-                (0..8)
-                    .map(|k| {
-                        let a = (2 * k + 1) as f64 * std::f64::consts::PI / 8.0;
-                        [cu + r * a.cos(), cv + r * a.sin()]
-                    })
-                    .collect(),
-            )
+            (0..8)
+                .map(|k| {
+                    let a = (2 * k + 1) as f64 * std::f64::consts::PI / 8.0;
+                    [cu + r * a.cos(), cv + r * a.sin()]
+                })
+                .collect()
         }
-        shape => shape
-            .hull_points(p.tol)
-            .map(|pts| convex_hull_2d(pts.iter().map(|c| [c.dot(u), c.dot(v)]).collect())),
-    })?;
+        Tight::Points(a, e) => convex_hull_2d(
+            p.hull_pts[a as usize..e as usize]
+                .iter()
+                .map(|c| [c.dot(u), c.dot(v)])
+                .collect(),
+        ),
+    };
     (hull.len() >= 3).then_some(hull)
 }
 

@@ -63,6 +63,18 @@ pub(crate) struct PZone {
     pub convex: bool,
 }
 
+/// Something tighter than a zone's box that holds the zone, from one of its
+/// `+` bodies: for rays that meet the box but cannot meet the zone.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Tight {
+    /// Nothing better than the box.
+    Box,
+    /// The ball of a sphere (its body).
+    Ball(u32),
+    /// The convex hull of `hull_pts[a..b]` ([`Shape::hull_points`]).
+    Points(u32, u32),
+}
+
 /// A geometry ready for ray casting: flat arrays of prepared bodies and
 /// zones, bounds for every body and zone, and two hierarchies (all zones,
 /// and the zones of opaque regions).
@@ -78,6 +90,10 @@ pub struct Prepared {
     pub(crate) unbounded_all: Vec<u32>,
     pub(crate) unbounded_opaque: Vec<u32>,
     pub(crate) tol: f64,
+    /// Per zone, something tighter than its box that holds it.
+    pub(crate) tight: Vec<Tight>,
+    /// The points of [`Tight::Points`].
+    pub(crate) hull_pts: Vec<DVec3>,
     bounds: Aabb,
     opaque_bounds: Aabb,
     region_count: usize,
@@ -223,6 +239,23 @@ impl Prepared {
                 }
             }
         }
+        let mut hull_pts = Vec::new();
+        let tight = zones
+            .iter()
+            .map(|z| {
+                let plus = &terms[z.first as usize..z.first as usize + z.plus as usize];
+                plus.iter()
+                    .find_map(|&b| match &shapes[b as usize] {
+                        Shape::Sphere(_) => Some(Tight::Ball(b)),
+                        s => s.hull_points(tol).map(|pts| {
+                            let a = hull_pts.len() as u32;
+                            hull_pts.extend(pts);
+                            Tight::Points(a, hull_pts.len() as u32)
+                        }),
+                    })
+                    .unwrap_or(Tight::Box)
+            })
+            .collect();
         let p = Prepared {
             shapes,
             body_bounds,
@@ -234,6 +267,8 @@ impl Prepared {
             unbounded_all,
             unbounded_opaque,
             tol,
+            tight,
+            hull_pts,
             bounds,
             opaque_bounds,
             region_count: g.regions.len(),

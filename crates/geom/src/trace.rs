@@ -3,7 +3,7 @@
 
 use crate::boolean::{intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
-use crate::prepare::{PZone, Prepared};
+use crate::prepare::{PZone, Prepared, Tight};
 use crate::shape::{Seg, Shape};
 use sv_math::{Aabb, DVec3, Ray};
 
@@ -343,15 +343,16 @@ impl Prepared {
     /// are more than `max`: the rays had better walk the hierarchy then.
     pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
         let few = self.zones_meeting(max, out, |b| f.may_meet(b));
-        // A zone cut from a sphere whose box the frustum meets may still
-        // lie beside it: the frustum can pass a box's corner and miss the
-        // ball inside (in a crowd of spheres, a tenth of a tile's list).
-        out.retain(|&zi| {
-            let z = &self.zones[zi as usize];
-            match (z.plus > 0).then(|| &self.shapes[self.terms[z.first as usize] as usize]) {
-                Some(Shape::Sphere(sp)) => f.may_meet_ball(sp.c, sp.r),
+        // A zone whose box the frustum meets may still lie beside it: the
+        // frustum can pass a box's corner and miss the ball inside, or a
+        // rotor blade set at an angle across its box.
+        out.retain(|&zi| match self.tight[zi as usize] {
+            Tight::Box => true,
+            Tight::Ball(b) => match &self.shapes[b as usize] {
+                Shape::Sphere(sp) => f.may_meet_ball(sp.c, sp.r),
                 _ => true,
-            }
+            },
+            Tight::Points(a, e) => f.may_meet_points(&self.hull_pts[a as usize..e as usize]),
         });
         few
     }
@@ -641,6 +642,16 @@ impl Frustum {
         })
     }
 
+    /// False only when the convex hull of `pts` lies wholly outside.
+    pub fn may_meet_points(&self, pts: &[DVec3]) -> bool {
+        self.planes.iter().all(|&(n, d, slack, _)| {
+            pts.iter().any(|&p| {
+                let v = n.dot(p);
+                v.partial_cmp(&(d - slack - 1e-9 * v.abs())) != Some(std::cmp::Ordering::Less)
+            })
+        })
+    }
+
     /// False only when the ball of centre `c` and radius `r` lies wholly
     /// outside.
     pub fn may_meet_ball(&self, c: DVec3, r: f64) -> bool {
@@ -734,5 +745,11 @@ mod tests {
         let graze = DVec3::new(2.0, 0.0, 1.0);
         let r = (2.0 - 1.0) / 2f64.sqrt();
         assert!(f.may_meet_ball(graze, r));
+        // A rod running parallel to the side x = z, 0.28 beyond it: its
+        // box reaches over the side, its ends (and so the rod) do not.
+        let rod = [DVec3::new(1.2, 0.0, 0.8), DVec3::new(2.0, 0.0, 1.6)];
+        assert!(f.may_meet(&Aabb::from_points(rod)));
+        assert!(!f.may_meet_points(&rod));
+        assert!(f.may_meet_points(&[rod[0], DVec3::new(0.5, 0.0, 1.6)]));
     }
 }

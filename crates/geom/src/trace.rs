@@ -283,7 +283,7 @@ impl Prepared {
         let base = parallel.map_or(0.0, |d| eye.dot(d));
         out.extend(zones.iter().map(|&zi| {
             let b = &self.zones[zi as usize].bounds;
-            let near = match parallel {
+            let mut near = match parallel {
                 None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
                 Some(d) => {
                     // The box corner furthest against `d`.
@@ -295,6 +295,16 @@ impl Prepared {
                     p.dot(d) - base
                 }
             };
+            // A ball inside the box may lie farther off than the box.
+            if let Tight::Ball(bi) = self.tight[zi as usize] {
+                if let Shape::Sphere(sp) = &self.shapes[bi as usize] {
+                    let ball = match parallel {
+                        None => (sp.c - eye).length() - sp.r,
+                        Some(d) => sp.c.dot(d) - sp.r - base,
+                    };
+                    near = near.max(ball);
+                }
+            }
             // Rounding slack keeps the bound a bound.
             (near - 1e-9 * (near.abs() + base.abs()), zi)
         }));
@@ -726,6 +736,89 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+
+    #[test]
+    fn entry_bounds_are_never_past_where_a_ray_enters() {
+        // Overlapping spheres, one zone each, and boxes turned to the axes.
+        let mut g = Geometry::default();
+        let mut seed = 7u64;
+        let mut rnd = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for i in 0..60 {
+            let (x, y, z) = (rnd() * 6.0, rnd() * 6.0, rnd() * 6.0);
+            let (kind, params) = if i % 3 == 0 {
+                let (a, b) = (rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0);
+                (
+                    BodyKind::Box,
+                    vec![
+                        x,
+                        y,
+                        z,
+                        2.0 * a,
+                        2.0 * b,
+                        0.0,
+                        -0.3 * b,
+                        0.3 * a,
+                        0.0,
+                        0.0,
+                        0.0,
+                        0.4,
+                    ],
+                )
+            } else {
+                (BodyKind::Sph, vec![x, y, z, 0.3 + rnd()])
+            };
+            g.bodies.push(Body::new(format!("b{i}"), kind, params));
+            g.regions.push(Region {
+                name: format!("r{i}"),
+                zones: vec![Zone {
+                    terms: vec![Term {
+                        op: Op::Inside,
+                        body: i,
+                    }],
+                }],
+            });
+        }
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let mut s = Scratch::new(&p);
+        let zones: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut near = Vec::new();
+        let mut checked = 0;
+        for eye in [DVec3::new(-8.0, 3.0, 2.0), DVec3::new(3.0, 3.0, 3.0)] {
+            for parallel in [None, Some(DVec3::new(1.0, 0.2, 0.1).normalize())] {
+                p.by_distance(&zones, eye, parallel, &mut near);
+                for _ in 0..400 {
+                    let ray = match parallel {
+                        None => Ray::new(
+                            eye,
+                            DVec3::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0),
+                        ),
+                        // From the plane through the eye across `d`.
+                        Some(d) => {
+                            let (u, v) = sv_math::orthonormal_basis(d);
+                            let o = eye + u * (rnd() * 8.0 - 1.0) + v * (rnd() * 8.0 - 1.0);
+                            Ray::new(o, d)
+                        }
+                    };
+                    s.new_ray();
+                    for &(bound, zi) in &near {
+                        let z = &p.zones[zi as usize];
+                        if p.zone_spans(z, &ray, 0.0, f64::INFINITY, &mut s) {
+                            let t = s.cur[0].a.t.max(0.0);
+                            assert!(bound <= t, "zone {zi}: bound {bound} past entry {t}");
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "{checked} entries checked");
+    }
 
     #[test]
     fn a_frustum_rules_out_a_ball_whose_box_it_meets() {

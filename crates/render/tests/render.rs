@@ -362,6 +362,30 @@ fn crowded_scene_renders_bit_identically_with_any_threads_and_without_hierarchy(
 }
 
 #[test]
+fn crowded_scene_seen_orthographically_renders_as_without_hierarchy() {
+    // Orthographic rays start on a plane, not at the eye: the tile lists'
+    // entry bounds (boxes, and the spheres' balls) are measured from it.
+    let mut scene = crowded();
+    let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    scene.camera = Some(Camera {
+        lens: Lens::Ortho { height: 10.0 },
+        ..r.camera
+    });
+    let st = Settings {
+        width: 96,
+        height: 72,
+        shadows: true,
+        samples: 1,
+        aovs: true,
+    };
+    let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+    let one = on_threads(&r, &st, 1);
+    assert_eq!(brute_force(&scene, 4.0 / 3.0).render(&st, &|_| {}), one);
+    let cover = one.alpha.iter().filter(|&&a| a > 0.0).count();
+    assert!(cover > one.alpha.len() / 4, "coverage {cover}");
+}
+
+#[test]
 fn a_tile_too_crowded_to_list_renders_the_same_through_the_hierarchy() {
     // One tile for the whole lattice: more zones than a tile lists, so
     // every primary ray walks the hierarchy.

@@ -5,7 +5,7 @@
 use sv_director::Timeline;
 use sv_formats::script::build_timeline;
 use sv_formats::SourceFile;
-use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+use sv_geom::{Body, BodyKind, Region};
 use sv_math::DVec3;
 use sv_scene::{RegionProps, Scene};
 
@@ -52,18 +52,7 @@ fn stand_in() -> Scene {
     let mut s = Scene::default();
     for (i, (name, (kind, params))) in parts.into_iter().enumerate() {
         s.geometry.bodies.push(Body::new(name, kind, params));
-        s.push_region(
-            Region {
-                name: name.into(),
-                zones: vec![Zone {
-                    terms: vec![Term {
-                        op: Op::Inside,
-                        body: i,
-                    }],
-                }],
-            },
-            RegionProps::default(),
-        );
+        s.push_region(Region::of_body(name, i), RegionProps::default());
     }
     s
 }

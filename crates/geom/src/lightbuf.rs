@@ -817,7 +817,7 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+    use crate::{Body, BodyKind, Geometry, PrepareOptions, Region};
 
     /// A grid of spheres, each its own region, on a much larger ground
     /// slab (region 0).
@@ -828,15 +828,7 @@ mod tests {
             BodyKind::Rpp,
             vec![-500.0, 500.0, -500.0, 500.0, -3.0, -2.5],
         ));
-        g.regions.push(Region {
-            name: "ground".into(),
-            zones: vec![Zone {
-                terms: vec![Term {
-                    op: Op::Inside,
-                    body: 0,
-                }],
-            }],
-        });
+        g.regions.push(Region::of_body("ground", 0));
         for i in 0..n {
             for j in 0..n {
                 let b = g.bodies.len();
@@ -845,15 +837,7 @@ mod tests {
                     BodyKind::Sph,
                     vec![i as f64 * 3.0, j as f64 * 3.0, (i + j) as f64 * 0.5, 1.0],
                 ));
-                g.regions.push(Region {
-                    name: format!("r{b}"),
-                    zones: vec![Zone {
-                        terms: vec![Term {
-                            op: Op::Inside,
-                            body: b,
-                        }],
-                    }],
-                });
+                g.regions.push(Region::of_body(format!("r{b}"), b));
             }
         }
         Prepared::new(&g, &PrepareOptions::default()).unwrap().0
@@ -1005,15 +989,7 @@ mod tests {
         let mut add = |kind, params: Vec<f64>| {
             let b = g.bodies.len();
             g.bodies.push(Body::new(format!("b{b}"), kind, params));
-            g.regions.push(Region {
-                name: format!("r{b}"),
-                zones: vec![Zone {
-                    terms: vec![Term {
-                        op: Op::Inside,
-                        body: b,
-                    }],
-                }],
-            });
+            g.regions.push(Region::of_body(format!("r{b}"), b));
         };
         add(BodyKind::Rpp, vec![-12.0, 12.0, -12.0, 12.0, -1.0, 0.0]);
         for i in 0..5 {

@@ -68,6 +68,21 @@ pub struct Region {
     pub zones: Vec<Zone>,
 }
 
+impl Region {
+    /// The region `name` of one zone: body `body` alone.
+    pub fn of_body(name: impl Into<String>, body: usize) -> Region {
+        Region {
+            name: name.into(),
+            zones: vec![Zone {
+                terms: vec![Term {
+                    op: Op::Inside,
+                    body,
+                }],
+            }],
+        }
+    }
+}
+
 /// Bodies and regions: the whole Combinatorial Geometry model.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Geometry {

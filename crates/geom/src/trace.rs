@@ -736,7 +736,7 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+    use crate::{Body, BodyKind, Geometry, PrepareOptions, Region};
 
     #[test]
     fn entry_bounds_are_never_past_where_a_ray_enters() {
@@ -774,15 +774,7 @@ mod tests {
                 (BodyKind::Sph, vec![x, y, z, 0.3 + rnd()])
             };
             g.bodies.push(Body::new(format!("b{i}"), kind, params));
-            g.regions.push(Region {
-                name: format!("r{i}"),
-                zones: vec![Zone {
-                    terms: vec![Term {
-                        op: Op::Inside,
-                        body: i,
-                    }],
-                }],
-            });
+            g.regions.push(Region::of_body(format!("r{i}"), i));
         }
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         let mut s = Scratch::new(&p);

@@ -8,15 +8,7 @@ use sv_scene::{Background, Camera, Lens, Light, LightKind, RegionProps, Scene};
 fn one_body_region(g: &mut Geometry, props: &mut Vec<RegionProps>, body: Body, k: f64) {
     let i = g.bodies.len();
     g.bodies.push(body);
-    g.regions.push(Region {
-        name: format!("r{i}"),
-        zones: vec![Zone {
-            terms: vec![Term {
-                op: Op::Inside,
-                body: i,
-            }],
-        }],
-    });
+    g.regions.push(Region::of_body(format!("r{i}"), i));
     props.push(RegionProps {
         k,
         ..Default::default()

@@ -6,7 +6,7 @@
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use sv_geom::shape::{Seg, Shape};
-use sv_geom::{Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Term, Zone};
+use sv_geom::{Body, BodyKind, Geometry, PrepareOptions, Prepared, Region};
 use sv_math::{DAffine3, DQuat, DVec3, Ray};
 
 /// One body of every type, with awkward orientations.
@@ -119,15 +119,7 @@ pub fn samples() -> Vec<Body> {
 fn prepare_one(b: &Body) -> Prepared {
     let g = Geometry {
         bodies: vec![b.clone()],
-        regions: vec![Region {
-            name: "r".into(),
-            zones: vec![Zone {
-                terms: vec![Term {
-                    op: Op::Inside,
-                    body: 0,
-                }],
-            }],
-        }],
+        regions: vec![Region::of_body("r", 0)],
     };
     Prepared::new(&g, &PrepareOptions::default())
         .expect("sample body prepares")
@@ -358,15 +350,7 @@ fn invalid_parameters_name_the_body_and_rule() {
     for (kind, params, want) in cases {
         let g = Geometry {
             bodies: vec![Body::new("bad", *kind, params.to_vec())],
-            regions: vec![Region {
-                name: "r".into(),
-                zones: vec![Zone {
-                    terms: vec![Term {
-                        op: Op::Inside,
-                        body: 0,
-                    }],
-                }],
-            }],
+            regions: vec![Region::of_body("r", 0)],
         };
         let err = Prepared::new(&g, &PrepareOptions::default()).unwrap_err();
         assert_eq!(err.to_string(), *want);
@@ -383,15 +367,7 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
     ];
     let g = Geometry {
         bodies: vec![Body::new("10", BodyKind::Arb8, p.to_vec())],
-        regions: vec![Region {
-            name: "r".into(),
-            zones: vec![Zone {
-                terms: vec![Term {
-                    op: Op::Inside,
-                    body: 0,
-                }],
-            }],
-        }],
+        regions: vec![Region::of_body("r", 0)],
     };
     let (prep, warnings) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     assert!(!warnings.is_empty());

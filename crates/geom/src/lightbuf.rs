@@ -14,8 +14,7 @@
 //! not stretch the grid. A shadow test then looks at a handful of zones
 //! instead of walking the hierarchy.
 
-use crate::prepare::{Prepared, Tight};
-use crate::shape::Shape;
+use crate::prepare::{Prepared, Tighter};
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
@@ -123,13 +122,7 @@ impl LightBuffer {
             lb.nu = nu;
             lb.nv = nv;
             lb.scale = scale;
-            let refs: usize = rects
-                .iter()
-                .map(|(_, r, _)| {
-                    let (a, b) = lb.span(r);
-                    (a.1 - a.0 + 1) * (b.1 - b.0 + 1)
-                })
-                .sum();
+            let refs: usize = rects.iter().map(|(_, r, _)| lb.cells_in(r)).sum();
             if refs <= MAX_REFS_PER_ZONE * rects.len() || nu * nv == 1 {
                 break;
             }
@@ -141,16 +134,12 @@ impl LightBuffer {
         // those over its cell. (Nine of the helicopter's 24 zones are large
         // beside the rest, its rotor blades among them, and every shadow
         // ray tested them all.)
-        let cells_of = |r: &[f64; 4]| {
-            let ((u0, u1), (v0, v1)) = lb.span(r);
-            (u1 - u0 + 1) * (v1 - v0 + 1)
-        };
         type Rect<'a> = &'a (u32, [f64; 4], f64);
         let (gridded, loose): (Vec<Rect>, Vec<Rect>) = big
             .iter()
             .partition(|(_, r, f)| r.iter().all(|x| x.is_finite()) && f.is_finite());
-        let own: usize = rects.iter().map(|(_, r, _)| cells_of(r)).sum();
-        let extra: usize = gridded.iter().map(|(_, r, _)| cells_of(r)).sum();
+        let own: usize = rects.iter().map(|(_, r, _)| lb.cells_in(r)).sum();
+        let extra: usize = gridded.iter().map(|(_, r, _)| lb.cells_in(r)).sum();
         let budget = own.max(MAX_REFS_PER_ZONE * rects.len()) + lb.nu * lb.nv;
         let (gridded, loose) = if extra <= budget {
             (gridded, loose)
@@ -232,6 +221,12 @@ impl LightBuffer {
         ((i0, i1), (j0, j1))
     }
 
+    /// How many cells a rectangle covers.
+    fn cells_in(&self, r: &[f64; 4]) -> usize {
+        let ((u0, u1), (v0, v1)) = self.span(r);
+        (u1 - u0 + 1) * (v1 - v0 + 1)
+    }
+
     /// The cell holding plane point `(a, b)`, clamped to the grid.
     fn cell_of(&self, a: f64, b: f64) -> (usize, usize) {
         (
@@ -302,13 +297,10 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
 /// projection; a sphere's box, seen along a diagonal, casts a hexagon
 /// whose rectangle has three times the area of the sphere's disc.)
 fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
-    let hull = match p.tight[zi as usize] {
-        Tight::Box => return None,
+    let hull = match p.tighter(zi) {
+        Tighter::Box => return None,
         // A sphere's shadow is a disc: the regular octagon around it.
-        Tight::Ball(b) => {
-            let Shape::Sphere(sp) = &p.shapes[b as usize] else {
-                return None;
-            };
+        Tighter::Ball(sp) => {
             let (cu, cv) = (sp.c.dot(u), sp.c.dot(v));
             let r = sp.r / (std::f64::consts::PI / 8.0).cos();
             (0..8)
@@ -318,12 +310,7 @@ fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
                 })
                 .collect()
         }
-        Tight::Points(a, e) => convex_hull_2d(
-            p.hull_pts[a as usize..e as usize]
-                .iter()
-                .map(|c| [c.dot(u), c.dot(v)])
-                .collect(),
-        ),
+        Tighter::Points(pts) => convex_hull_2d(pts.iter().map(|c| [c.dot(u), c.dot(v)]).collect()),
     };
     (hull.len() >= 3).then_some(hull)
 }
@@ -1054,11 +1041,7 @@ mod tests {
             // outline leaves most of the box's cells alone.
             let listed = lb.items.iter().filter(|&&z| z >= 27).count();
             let boxed: usize = (27..31)
-                .map(|zi| {
-                    let b = p.zones[zi].bounds;
-                    let ((u0, u1), (v0, v1)) = lb.span(&project(&b, lb.u, lb.v, 4.0 * p.tol));
-                    (u1 - u0 + 1) * (v1 - v0 + 1)
-                })
+                .map(|zi| lb.cells_in(&project(&p.zones[zi].bounds, lb.u, lb.v, 4.0 * p.tol)))
                 .sum();
             assert!(2 * listed < boxed, "{listed} of {boxed} cells");
             let origins = (0..60 * 60 * 4).map(|i| {

@@ -75,6 +75,16 @@ pub(crate) enum Tight {
     Points(u32, u32),
 }
 
+/// A zone's [`Tight`], resolved by [`Prepared::tighter`].
+pub(crate) enum Tighter<'a> {
+    /// Nothing better than the box.
+    Box,
+    /// A sphere among its `+` bodies.
+    Ball(&'a crate::shape::Sphere),
+    /// Points whose convex hull holds one of its `+` bodies.
+    Points(&'a [DVec3]),
+}
+
 /// A geometry ready for ray casting: flat arrays of prepared bodies and
 /// zones, bounds for every body and zone, and two hierarchies (all zones,
 /// and the zones of opaque regions).
@@ -305,6 +315,19 @@ impl Prepared {
     /// The prepared form of body `i`.
     pub fn shape(&self, i: usize) -> &Shape {
         &self.shapes[i]
+    }
+
+    /// What is known of zone `zi`'s shape beyond its box.
+    #[inline]
+    pub(crate) fn tighter(&self, zi: u32) -> Tighter<'_> {
+        match self.tight[zi as usize] {
+            Tight::Ball(b) => match &self.shapes[b as usize] {
+                Shape::Sphere(s) => Tighter::Ball(s),
+                _ => Tighter::Box,
+            },
+            Tight::Points(a, e) => Tighter::Points(&self.hull_pts[a as usize..e as usize]),
+            Tight::Box => Tighter::Box,
+        }
     }
 
     /// Bounds of body `i`.

@@ -3,8 +3,8 @@
 
 use crate::boolean::{intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
-use crate::prepare::{PZone, Prepared, Tight};
-use crate::shape::{Seg, Shape};
+use crate::prepare::{PZone, Prepared, Tighter};
+use crate::shape::Seg;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
@@ -296,14 +296,12 @@ impl Prepared {
                 }
             };
             // A ball inside the box may lie farther off than the box.
-            if let Tight::Ball(bi) = self.tight[zi as usize] {
-                if let Shape::Sphere(sp) = &self.shapes[bi as usize] {
-                    let ball = match parallel {
-                        None => (sp.c - eye).length() - sp.r,
-                        Some(d) => sp.c.dot(d) - sp.r - base,
-                    };
-                    near = near.max(ball);
-                }
+            if let Tighter::Ball(sp) = self.tighter(zi) {
+                let ball = match parallel {
+                    None => (sp.c - eye).length() - sp.r,
+                    Some(d) => sp.c.dot(d) - sp.r - base,
+                };
+                near = near.max(ball);
             }
             // Rounding slack keeps the bound a bound.
             (near - 1e-9 * (near.abs() + base.abs()), zi)
@@ -356,13 +354,10 @@ impl Prepared {
         // A zone whose box the frustum meets may still lie beside it: the
         // frustum can pass a box's corner and miss the ball inside, or a
         // rotor blade set at an angle across its box.
-        out.retain(|&zi| match self.tight[zi as usize] {
-            Tight::Box => true,
-            Tight::Ball(b) => match &self.shapes[b as usize] {
-                Shape::Sphere(sp) => f.may_meet_ball(sp.c, sp.r),
-                _ => true,
-            },
-            Tight::Points(a, e) => f.may_meet_points(&self.hull_pts[a as usize..e as usize]),
+        out.retain(|&zi| match self.tighter(zi) {
+            Tighter::Box => true,
+            Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
+            Tighter::Points(pts) => f.may_meet_points(pts),
         });
         few
     }

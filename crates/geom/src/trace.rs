@@ -350,22 +350,36 @@ impl Prepared {
     /// (unbounded zones first). Gives up and returns false as soon as there
     /// are more than `max`: the rays had better walk the hierarchy then.
     pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {
-        let few = self.zones_meeting(max, out, |b| f.may_meet(b));
-        // A zone whose box the frustum meets may still lie beside it: the
-        // frustum can pass a box's corner and miss the ball inside, or a
-        // rotor blade set at an angle across its box.
-        out.retain(|&zi| match self.tighter(zi) {
-            Tighter::Box => true,
-            Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
-            Tighter::Points(pts) => f.may_meet_points(pts),
-        });
-        few
+        self.zones_meeting(
+            max,
+            out,
+            |b| f.may_meet(b),
+            |zi| {
+                // A zone whose box the frustum meets may still lie beside it:
+                // the frustum can pass a box's corner and miss the ball inside,
+                // or a rotor blade set at an angle across its box. Only the
+                // zones left count toward `max`.
+                f.may_meet(&self.zones[zi as usize].bounds)
+                    && match self.tighter(zi) {
+                        Tighter::Box => true,
+                        Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
+                        Tighter::Points(pts) => f.may_meet_points(pts),
+                    }
+            },
+        )
     }
 
-    /// The opaque zones whose bounds pass `meets` (unbounded zones always),
-    /// walking the hierarchy through the nodes that pass it; false (and
-    /// given up) past `max`.
-    fn zones_meeting(&self, max: usize, out: &mut Vec<u32>, meets: impl Fn(&Aabb) -> bool) -> bool {
+    /// The opaque zones that pass `keep` (unbounded zones always), walking
+    /// the hierarchy through the nodes whose bounds pass `meets`, which
+    /// must pass the bounds of every zone `keep` passes; false (and given
+    /// up) past `max`.
+    fn zones_meeting(
+        &self,
+        max: usize,
+        out: &mut Vec<u32>,
+        meets: impl Fn(&Aabb) -> bool,
+        keep: impl Fn(u32) -> bool,
+    ) -> bool {
         out.clear();
         out.extend_from_slice(&self.unbounded_opaque);
         let nodes = &self.bvh_opaque.nodes;
@@ -380,11 +394,7 @@ impl Prepared {
             if node.count > 0 {
                 let items =
                     &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
-                out.extend(
-                    items
-                        .iter()
-                        .filter(|&&zi| meets(&self.zones[zi as usize].bounds)),
-                );
+                out.extend(items.iter().copied().filter(|&zi| keep(zi)));
             } else if sp + 2 <= stack.len() {
                 stack[sp] = node.first + 1;
                 stack[sp + 1] = node.first;
@@ -484,7 +494,8 @@ impl Prepared {
     /// [`crate::LightBuffer`].)
     pub fn zones_in_box(&self, from: &Aabb, max: usize, out: &mut Vec<u32>) -> bool {
         let near = from.padded(self.tol);
-        self.zones_meeting(max, out, |b| !b.intersection(&near).is_empty())
+        let meets = |b: &Aabb| !b.intersection(&near).is_empty();
+        self.zones_meeting(max, out, meets, |zi| meets(&self.zones[zi as usize].bounds))
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,
@@ -831,5 +842,44 @@ mod tests {
         assert!(f.may_meet(&Aabb::from_points(rod)));
         assert!(!f.may_meet_points(&rod));
         assert!(f.may_meet_points(&[rod[0], DVec3::new(0.5, 0.0, 1.6)]));
+    }
+
+    #[test]
+    fn a_tile_lists_its_zones_when_only_their_boxes_crowd_it() {
+        // Rays from the origin through the square |x|, |y| <= 1 at z = 1
+        // (as above). Three small spheres sit on the z axis; twelve beside
+        // the four sides, like the ball 0.71 beyond the side x = z above,
+        // have boxes that reach over the sides and balls that do not.
+        let mut g = Geometry::default();
+        let mut add = |c: DVec3, r: f64| {
+            let i = g.bodies.len();
+            g.bodies.push(Body::new(
+                format!("s{i}"),
+                BodyKind::Sph,
+                vec![c.x, c.y, c.z, r],
+            ));
+            g.regions.push(Region::of_body(format!("r{i}"), i));
+        };
+        for z in [2.0, 8.0, 30.0] {
+            add(DVec3::new(0.0, 0.0, z), 0.1);
+        }
+        for z in [1.0, 4.0, 16.0] {
+            for (x, y) in [(2.0, 0.0), (-2.0, 0.0), (0.0, 2.0), (0.0, -2.0)] {
+                add(DVec3::new(x * z, y * z, z), 0.6 * z);
+            }
+        }
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let f = Frustum::from_corners(
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(x, y)| Ray::new(DVec3::ZERO, DVec3::new(x, y, 1.0))),
+        );
+        let mut out = Vec::new();
+        // Fifteen boxes meet the frustum, three balls: within a limit of
+        // five, the tile keeps a list, of those three.
+        assert!(p.frustum_zones(&f, 5, &mut out));
+        out.sort_unstable();
+        let regions: Vec<u32> = out.iter().map(|&zi| p.zones[zi as usize].region).collect();
+        assert_eq!(regions, [0, 1, 2]);
+        assert!(!p.frustum_zones(&f, 2, &mut out));
     }
 }

@@ -346,7 +346,8 @@ impl Prepared {
         }
     }
 
-    /// The opaque zones whose bounds meet the frustum, in hierarchy order
+    /// The opaque zones that the frustum may meet (their bounds, and the
+    /// ball or hull points found for each when prepared), in hierarchy order
     /// (unbounded zones first). Gives up and returns false as soon as there
     /// are more than `max`: the rays had better walk the hierarchy then.
     pub fn frustum_zones(&self, f: &Frustum, max: usize, out: &mut Vec<u32>) -> bool {

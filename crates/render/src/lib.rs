@@ -317,8 +317,8 @@ impl Renderer {
                     continue;
                 }
             }
-            // Only for a surface the light reaches: the power is a tenth of
-            // a crowd's time under a lamp.
+            // Only for a surface the light reaches: the power took 8 % of a
+            // crowd's time under a lamp.
             let fall = decay.map_or(1.0, |n| dist.powf(-n));
             let e = l.intensity * k * cos * fall;
             for (acc, lc) in sum.iter_mut().zip(l.colour) {

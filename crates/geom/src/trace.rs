@@ -355,25 +355,21 @@ impl Prepared {
             max,
             out,
             |b| f.may_meet(b),
-            |zi| {
-                // A zone whose box the frustum meets may still lie beside it:
-                // the frustum can pass a box's corner and miss the ball inside,
-                // or a rotor blade set at an angle across its box. Only the
-                // zones left count toward `max`.
-                f.may_meet(&self.zones[zi as usize].bounds)
-                    && match self.tighter(zi) {
-                        Tighter::Box => true,
-                        Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
-                        Tighter::Points(pts) => f.may_meet_points(pts),
-                    }
+            // A zone whose box the frustum meets may still lie beside it:
+            // the frustum can pass a box's corner and miss the ball inside,
+            // or a rotor blade set at an angle across its box. Only the
+            // zones left count toward `max`.
+            |zi| match self.tighter(zi) {
+                Tighter::Box => true,
+                Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
+                Tighter::Points(pts) => f.may_meet_points(pts),
             },
         )
     }
 
-    /// The opaque zones that pass `keep` (unbounded zones always), walking
-    /// the hierarchy through the nodes whose bounds pass `meets`, which
-    /// must pass the bounds of every zone `keep` passes; false (and given
-    /// up) past `max`.
+    /// The opaque zones whose bounds pass `meets` and that then pass `keep`
+    /// (unbounded zones always), walking the hierarchy through the nodes
+    /// whose bounds pass `meets`; false (and given up) past `max`.
     fn zones_meeting(
         &self,
         max: usize,
@@ -395,7 +391,12 @@ impl Prepared {
             if node.count > 0 {
                 let items =
                     &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
-                out.extend(items.iter().copied().filter(|&zi| keep(zi)));
+                out.extend(
+                    items
+                        .iter()
+                        .copied()
+                        .filter(|&zi| meets(&self.zones[zi as usize].bounds) && keep(zi)),
+                );
             } else if sp + 2 <= stack.len() {
                 stack[sp] = node.first + 1;
                 stack[sp + 1] = node.first;
@@ -495,8 +496,7 @@ impl Prepared {
     /// [`crate::LightBuffer`].)
     pub fn zones_in_box(&self, from: &Aabb, max: usize, out: &mut Vec<u32>) -> bool {
         let near = from.padded(self.tol);
-        let meets = |b: &Aabb| !b.intersection(&near).is_empty();
-        self.zones_meeting(max, out, meets, |zi| meets(&self.zones[zi as usize].bounds))
+        self.zones_meeting(max, out, |b| !b.intersection(&near).is_empty(), |_| true)
     }
 
     /// Every region's stretches along the ray within `(tmin, tmax)`,

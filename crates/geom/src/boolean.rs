@@ -74,7 +74,7 @@ impl Span {
     }
 }
 
-fn flipped(mut b: Bound) -> Bound {
+pub(crate) fn flipped(mut b: Bound) -> Bound {
     b.face_flip ^= Bound::FLIP;
     b
 }

@@ -21,7 +21,10 @@
 pub struct Bound {
     /// Ray parameter (distance along the ray).
     pub t: f64,
-    /// Body whose surface is crossed.
+    /// Body whose surface is crossed. In the bounds of hits and partitions
+    /// this is the prepared body number, which
+    /// [`Prepared::body_index`](crate::Prepared::body_index) turns into the
+    /// body's index in the geometry.
     pub body: u32,
     /// The face of that body in the low bits, [`Bound::FLIP`] when the body
     /// was subtracted.

@@ -55,7 +55,8 @@ pub struct Hit {
     pub t: f64,
     /// Region entered.
     pub region: u32,
-    /// Surface crossed: body, face and whether it was subtracted.
+    /// Surface crossed: body (prepared number, see
+    /// [`Prepared::body_index`]), face and whether it was subtracted.
     pub bound: Bound,
     /// True when the ray started inside the region (no surface crossed).
     pub inside: bool,
@@ -691,7 +692,11 @@ impl Prepared {
                         t: b.t,
                         entering,
                         region: p.region,
-                        body: b.body,
+                        body: if b.body == u32::MAX {
+                            b.body
+                        } else {
+                            self.body_index(b.body) as u32
+                        },
                         face: b.face(),
                     });
                 }
@@ -851,7 +856,7 @@ impl Prepared {
                     if t.is_finite() && t > tmin {
                         steps.push(Step {
                             t,
-                            body: i as u32,
+                            body: self.body_index(i as u32) as u32,
                             face,
                             entering,
                             regions_after: Vec::new(),

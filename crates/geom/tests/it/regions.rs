@@ -263,3 +263,53 @@ fn or_zones_union_and_region_names_resolve() {
     assert!(p.region_contains(0, DVec3::new(3.5, 0.0, 0.0)));
     assert!(!p.region_contains(0, DVec3::new(-0.9, 0.0, 0.0)));
 }
+
+#[test]
+fn bodies_keep_their_indices_though_stored_in_space_order() {
+    // Spheres on a line, out of order along it and named by the regions in
+    // yet another order, and one body no zone names.
+    let at = |b: usize| DVec3::new(3.0 * [2, 5, 0, 4, 1, 3][b] as f64, 0.0, 0.0);
+    let order = [5, 0, 3, 1, 4, 2];
+    let mut bodies: Vec<Body> = (0..6)
+        .map(|i| {
+            let c = at(i);
+            Body::new(format!("s{i}"), BodyKind::Sph, vec![c.x, c.y, c.z, 1.0])
+        })
+        .collect();
+    bodies.push(Body::new("unused", BodyKind::Sph, vec![0.0, 9.0, 0.0, 0.5]));
+    let g = Geometry {
+        bodies,
+        regions: order
+            .iter()
+            .map(|&b| region(&format!("r{b}"), &[&[('+', b)]]))
+            .collect(),
+    };
+    let (p, _) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
+    let mut s = Scratch::new(&p);
+    for b in 0..7 {
+        let c = if b == 6 {
+            DVec3::new(0.0, 9.0, 0.0)
+        } else {
+            at(b)
+        };
+        assert!(p.body_bounds(b).contains(c), "body {b}");
+        assert!(p.shape(b).contains(c), "body {b}");
+    }
+    for (r, &b) in order.iter().enumerate() {
+        // Down onto sphere `b`: its region is hit, through its surface.
+        let ray = Ray::new(at(b) + DVec3::new(0.0, 0.0, 5.0), -DVec3::Z);
+        let hit = p.first_hit(&ray, 0.0, f64::INFINITY, &mut s).unwrap();
+        assert_eq!(hit.region as usize, r);
+        assert_eq!(p.body_index(hit.bound.body), b);
+        let steps = p.walk(&ray, 0.0, &mut s);
+        assert_eq!(
+            steps.iter().map(|st| st.body as usize).collect::<Vec<_>>(),
+            [b, b]
+        );
+        let crossings = p.crossings(&ray, 0.0, &mut s);
+        assert!(
+            crossings.iter().all(|c| c.body as usize == b),
+            "{crossings:?}"
+        );
+    }
+}

@@ -181,14 +181,10 @@ impl Prepared {
         }
         for &b in &minus[done.unwrap_or(0)..] {
             let (first, last) = (s.cur[0].a.t, s.cur[s.cur.len() - 1].b.t);
-            let Some((a, e)) = self.minus_segs(b, ray, first, last, s) else {
+            let Some(range) = self.minus_segs(b, ray, first, last, s) else {
                 continue;
             };
-            let segs = &s.segs[a..e];
-            let y = |j: usize| span(&segs[j], b);
-            subtract_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol);
-            std::mem::swap(&mut s.cur, &mut s.tmp);
-            if s.cur.is_empty() {
+            if !self.combine(Combine::Subtract, b, range, s) {
                 return false;
             }
         }
@@ -223,17 +219,28 @@ impl Prepared {
             }
             if i == 0 {
                 s.cur.extend(spans(&s.segs[a..e], b).filter(&keep));
-            } else {
-                let segs = &s.segs[a..e];
-                let y = |j: usize| span(&segs[j], b);
-                intersect_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol);
-                std::mem::swap(&mut s.cur, &mut s.tmp);
-            }
-            if s.cur.is_empty() {
+                if s.cur.is_empty() {
+                    return false;
+                }
+            } else if !self.combine(Combine::Intersect, b, (a, e), s) {
                 return false;
             }
         }
         true
+    }
+
+    /// `s.cur` intersected with, or less, body `b`'s segments
+    /// `s.segs[a..e]`; false when nothing is left.
+    #[inline(always)]
+    fn combine(&self, op: Combine, b: u32, (a, e): (usize, usize), s: &mut Scratch) -> bool {
+        let segs = &s.segs[a..e];
+        let y = |j: usize| span(&segs[j], b);
+        match op {
+            Combine::Intersect => intersect_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol),
+            Combine::Subtract => subtract_with(&s.cur, segs.len(), y, &mut s.tmp, self.tol),
+        }
+        std::mem::swap(&mut s.cur, &mut s.tmp);
+        !s.cur.is_empty()
     }
 
     /// The segments of `-` body `b` when they may cut the spans from
@@ -730,6 +737,13 @@ impl Prepared {
 /// `subtract` flips the bounds it takes from a subtracted body).
 fn spans(segs: &[Seg], body: u32) -> impl Iterator<Item = Span> + '_ {
     segs.iter().map(move |g| span(g, body))
+}
+
+/// The boolean of [`Prepared::combine`].
+#[derive(Clone, Copy)]
+enum Combine {
+    Intersect,
+    Subtract,
 }
 
 /// What [`Prepared::convex_spans`] made of a zone.

@@ -213,13 +213,9 @@ impl Prepared {
         if !problems.is_empty() {
             return Err(PrepareError { problems });
         }
-        let (zones, terms, body_ids) = in_space_order(zones, terms, g.bodies.len());
+        let (mut zones, terms, body_ids, places) = in_space_order(zones, terms, g.bodies.len());
         permute(&mut shapes, &body_ids);
         permute(&mut body_bounds, &body_ids);
-        let mut places = vec![0; body_ids.len()];
-        for (i, &b) in body_ids.iter().enumerate() {
-            places[b as usize] = i as u32;
-        }
         let finite = body_bounds
             .iter()
             .filter(|b| b.is_finite())
@@ -238,7 +234,6 @@ impl Prepared {
         for b in body_bounds.iter_mut() {
             *b = b.padded(pad);
         }
-        let mut zones = zones;
         for z in zones.iter_mut() {
             z.bounds = z.bounds.padded(pad);
         }
@@ -413,14 +408,15 @@ fn permute<T>(v: &mut [T], from: &[u32]) {
 /// in the order these zones first name them (then the bodies no zone
 /// names): neighbours in space become neighbours in memory, so that a ray
 /// crossing a crowd of small bodies finds their data in the lines it has
-/// just loaded. Returns the zones and terms renumbered, and the body index
-/// of each new body number. Unsorted, 100,000 random spheres rendered 20 %
-/// slower (BENCHMARKS.md, twelfth round).
+/// just loaded. Returns the zones and terms renumbered, the body index of
+/// each new body number, and the new number of each body. Unsorted,
+/// 100,000 random spheres rendered 20 % slower (BENCHMARKS.md, twelfth
+/// round).
 fn in_space_order(
     zones: Vec<PZone>,
     terms: Vec<u32>,
     bodies: usize,
-) -> (Vec<PZone>, Vec<u32>, Vec<u32>) {
+) -> (Vec<PZone>, Vec<u32>, Vec<u32>, Vec<u32>) {
     let all = zones
         .iter()
         .filter(|z| z.bounds.is_finite())
@@ -471,7 +467,7 @@ fn in_space_order(
     for b in 0..bodies as u32 {
         place(b);
     }
-    (new_zones, new_terms, body_ids)
+    (new_zones, new_terms, body_ids, places)
 }
 
 /// The triangles of an ARS: each pair of neighbouring curves joined by two

@@ -192,9 +192,9 @@ impl Prepared {
         !s.cur.is_empty()
     }
 
-    /// The spans of the `+` bodies' intersection (`plus` not empty), the
-    /// first body's filtered by `keep`, in `s.cur`; false when there are
-    /// none.
+    /// The spans of the `+` bodies' intersection, the first body's
+    /// filtered by `keep` (the whole line when there are no `+` bodies), in
+    /// `s.cur`; false when there are none.
     #[inline(always)]
     fn plus_spans(
         &self,

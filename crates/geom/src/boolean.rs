@@ -54,6 +54,17 @@ impl Bound {
     pub fn flip(&self) -> bool {
         self.face_flip & Self::FLIP != 0
     }
+
+    /// The face with the flip bit ([`Bound::FLIP`] when subtracted).
+    pub(crate) fn face_flip(&self) -> u32 {
+        self.face_flip
+    }
+
+    /// The end at `t` on `body` with `face_flip` as [`Bound::face_flip`]
+    /// gives it.
+    pub(crate) fn from_parts(t: f64, body: u32, face_flip: u32) -> Bound {
+        Bound { t, body, face_flip }
+    }
 }
 
 /// A stretch `[a.t, b.t]` of the ray.

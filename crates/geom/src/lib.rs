@@ -22,8 +22,10 @@ pub mod boolean;
 mod bvh;
 mod lightbuf;
 mod model;
+mod packet;
 mod prepare;
 pub mod shape;
+mod simd;
 pub mod table;
 mod trace;
 

@@ -20,7 +20,8 @@ pub struct PrepareOptions {
     /// Per region: does it stop light? `None` means every region does.
     /// Transparent regions are still traced by [`Prepared::partitions`].
     pub opaque: Option<Vec<bool>>,
-    /// Test every zone for every ray instead of walking the hierarchy.
+    /// Test every zone for every ray instead of walking the hierarchy, and
+    /// trace every ray on its own (no packets of rays in vector lanes).
     /// Slow; results are bit-for-bit the same, which the tests check.
     pub brute_force: bool,
 }
@@ -61,6 +62,10 @@ pub(crate) struct PZone {
     pub bounds: Aabb,
     /// Every `+` body is convex (so the zone's `+` part is convex).
     pub convex: bool,
+    /// It has `+` bodies, and every body is one the packet tracer casts in
+    /// vector lanes ([`Shape::has_lanes`]): a packet evaluates the zone for
+    /// all its rays at once.
+    pub lanes: bool,
 }
 
 /// Something tighter than a zone's box that holds the zone, from one of its
@@ -112,6 +117,9 @@ pub struct Prepared {
     /// place of each body.
     body_ids: Vec<u32>,
     places: Vec<u32>,
+    /// Trace a tile's primary rays in packets where the processor has
+    /// vector instructions for it ([`Prepared::first_hits_in`]).
+    pub(crate) packets: bool,
 }
 
 impl Prepared {
@@ -198,8 +206,14 @@ impl Prepared {
                     .collect();
                 minus.dedup();
                 let convex = plus.iter().all(|&b| shapes[b as usize].is_convex());
+                let lanes = !plus.is_empty()
+                    && plus
+                        .iter()
+                        .chain(&minus)
+                        .all(|&b| shapes[b as usize].has_lanes());
                 zones.push(PZone {
                     convex,
+                    lanes,
                     region: ri as u32,
                     first: terms.len() as u32,
                     plus: plus.len() as u16,
@@ -292,6 +306,7 @@ impl Prepared {
             region_count: g.regions.len(),
             body_ids,
             places,
+            packets: !opts.brute_force,
         };
         Ok((p, warnings))
     }

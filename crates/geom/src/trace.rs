@@ -17,7 +17,7 @@ pub struct Scratch {
     /// three.
     cache: Vec<[u32; 3]>,
     segs: Vec<Seg>,
-    cur: Vec<Span>,
+    pub(crate) cur: Vec<Span>,
     tmp: Vec<Span>,
     tagged: Vec<(u32, Span)>,
     stack: Stack,
@@ -149,7 +149,14 @@ impl Prepared {
     /// Spans of zone `z` that reach into `(lo, hi)`, left in `s.cur`.
     /// Returns false when there are none. The caller has checked that the
     /// ray meets the zone's bounds.
-    fn zone_spans(&self, z: &PZone, ray: &Ray, lo: f64, hi: f64, s: &mut Scratch) -> bool {
+    pub(crate) fn zone_spans(
+        &self,
+        z: &PZone,
+        ray: &Ray,
+        lo: f64,
+        hi: f64,
+        s: &mut Scratch,
+    ) -> bool {
         let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         s.cur.clear();
         if z.plus == 1 && z.minus == 0 {

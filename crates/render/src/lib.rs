@@ -444,31 +444,27 @@ impl Renderer {
                         // `first_hit_in`); the slot is kept when it holds
                         // one. The slots are only ever added to: filling
                         // them anew for every tile stalls as a copy does.
-                        if ws.hits.len() < ws.rays.len() {
-                            ws.hits.resize(ws.rays.len(), (0, Hit::NONE));
-                        }
-                        for (k, ray) in ws.rays.iter().enumerate() {
-                            let slot = &mut ws.hits[found];
-                            let hit = if few {
-                                self.prepared.first_hit_in(
-                                    &ws.sorted,
-                                    ray,
-                                    0.0,
-                                    f64::INFINITY,
-                                    &mut ws.s,
-                                    &mut slot.1,
-                                )
-                            } else if let Some(h) =
-                                self.prepared.first_hit(ray, 0.0, f64::INFINITY, &mut ws.s)
-                            {
-                                slot.1 = h;
-                                true
-                            } else {
-                                false
-                            };
-                            if hit {
-                                slot.0 = k as u32;
-                                found += 1;
+                        if few {
+                            // Several rays at once where the processor can.
+                            found = self.prepared.first_hits_in(
+                                &ws.sorted,
+                                &ws.rays,
+                                0.0,
+                                f64::INFINITY,
+                                &mut ws.s,
+                                &mut ws.hits,
+                            );
+                        } else {
+                            if ws.hits.len() < ws.rays.len() {
+                                ws.hits.resize(ws.rays.len(), (0, Hit::NONE));
+                            }
+                            for (k, ray) in ws.rays.iter().enumerate() {
+                                if let Some(h) =
+                                    self.prepared.first_hit(ray, 0.0, f64::INFINITY, &mut ws.s)
+                                {
+                                    ws.hits[found] = (k as u32, h);
+                                    found += 1;
+                                }
                             }
                         }
                     }

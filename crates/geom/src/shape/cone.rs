@@ -1,5 +1,7 @@
 use super::poly::roots_in;
 use super::{segments_by_classification, Seg};
+use crate::packet::{dot, mat_vec, not, sub_point, Lanes, SegLanes};
+use crate::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// Face numbers of cones.
@@ -115,6 +117,108 @@ impl Cone {
         }
         if t0 < t1 {
             out.push(Seg { t0, t1, f0, f1 });
+        }
+    }
+
+    /// [`Cone::shoot`] in every lane, operation for operation: the slab
+    /// between base and top, then [`Cone::lateral`]'s cases, each lane
+    /// taking the one its ray takes.
+    #[inline(always)]
+    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
+        let d = mat_vec(s, &self.f.inv, r.d);
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        let (inf, ninf) = (s.splat(f64::INFINITY), s.splat(f64::NEG_INFINITY));
+        let (lat, base, top) = (
+            s.splat(f64::from(LATERAL)),
+            s.splat(f64::from(BASE)),
+            s.splat(f64::from(TOP)),
+        );
+        // Frame::slab.
+        let flat = s.eq(d[2], zero);
+        let mut miss = s.and(flat, s.or(s.lt(o[2], zero), s.gt(o[2], one)));
+        let ta = s.div(s.neg(o[2]), d[2]);
+        let tb = s.div(s.sub(one, o[2]), d[2]);
+        let up = s.gt(d[2], zero);
+        let t0 = s.select(flat, ninf, s.select(up, ta, tb));
+        let t1 = s.select(flat, inf, s.select(up, tb, ta));
+        let f0 = s.select(flat, lat, s.select(up, base, top));
+        let f1 = s.select(flat, lat, s.select(up, top, base));
+        // Cone::lateral.
+        let k = self.k;
+        let a = s.sub(
+            s.add(s.mul(d[0], d[0]), s.mul(d[1], d[1])),
+            s.mul(s.mul(s.splat(k * k), d[2]), d[2]),
+        );
+        let small = s.mul(s.splat(1e-12), dot(s, d, d));
+        let cyl = if k == 0.0 { s.gt(a, small) } else { s.none() };
+        let (mut l0, mut l1) = (zero, zero);
+        let all = s.mask(u32::MAX);
+        if s.any(cyl) {
+            // A cylinder: the closest approach to the axis and half a chord.
+            let inv = s.div(one, a);
+            let tm = s.mul(s.neg(s.add(s.mul(o[0], d[0]), s.mul(o[1], d[1]))), inv);
+            let fx = s.add(o[0], s.mul(d[0], tm));
+            let fy = s.add(o[1], s.mul(d[1], tm));
+            let disc = s.sub(one, s.add(s.mul(fx, fx), s.mul(fy, fy)));
+            let h = s.sqrt(s.mul(disc, inv));
+            l0 = s.sub(tm, h);
+            l1 = s.add(tm, h);
+            miss = s.or(miss, s.and(cyl, s.lt(disc, zero)));
+        }
+        let general = s.andnot(all, cyl);
+        if s.any(general) {
+            let kk = s.splat(k);
+            let s0 = s.add(one, s.mul(kk, o[2]));
+            let b = s.sub(
+                s.add(s.mul(o[0], d[0]), s.mul(o[1], d[1])),
+                s.mul(s.mul(kk, d[2]), s0),
+            );
+            let c = s.sub(s.add(s.mul(o[0], o[0]), s.mul(o[1], o[1])), s.mul(s0, s0));
+            // Parallel to a generator: one crossing at most.
+            let par = s.le(s.abs(a), small);
+            let bz = s.eq(b, zero);
+            let tp = s.div(s.neg(c), s.mul(s.splat(2.0), b));
+            let bpos = s.gt(b, zero);
+            let p0 = s.select(bz, ninf, s.select(bpos, ninf, tp));
+            let p1 = s.select(bz, inf, s.select(bpos, tp, inf));
+            let pmiss = s.and(bz, s.ge(c, zero));
+            // Two roots.
+            let disc = s.sub(s.mul(b, b), s.mul(a, c));
+            let q = s.neg(s.add(b, s.copysign(s.sqrt(disc), b)));
+            let qz = s.eq(q, zero);
+            let r0 = s.select(qz, zero, s.div(q, a));
+            let r1 = s.select(qz, zero, s.div(c, q));
+            let ordered = s.lt(r0, r1);
+            let (r0, r1) = (s.select(ordered, r0, r1), s.select(ordered, r1, r0));
+            // Inside lies outside the roots when a < 0: within the slab only
+            // the body's nappe exists, so keep the piece meeting it.
+            let before = s.gt(r0, t0);
+            let after = s.lt(r1, t1);
+            let longer = s.ge(s.sub(r0, t0), s.sub(t1, r1));
+            let lower = s.or(s.andnot(before, after), s.and(s.and(before, after), longer));
+            let n0 = s.select(lower, ninf, r1);
+            let n1 = s.select(lower, r0, inf);
+            let nmiss = s.andnot(not(s, before), after);
+            let open = s.gt(a, zero);
+            let g0 = s.select(open, r0, n0);
+            let g1 = s.select(open, r1, n1);
+            let gmiss = s.or(s.lt(disc, zero), s.andnot(nmiss, open));
+            l0 = s.select(general, s.select(par, p0, g0), l0);
+            l1 = s.select(general, s.select(par, p1, g1), l1);
+            let lmiss = s.or(s.and(par, pmiss), s.andnot(gmiss, par));
+            miss = s.or(miss, s.and(general, lmiss));
+        }
+        let n0 = s.gt(l0, t0);
+        let n1 = s.lt(l1, t1);
+        let t0 = s.select(n0, l0, t0);
+        let t1 = s.select(n1, l1, t1);
+        SegLanes {
+            t0,
+            t1,
+            f0: s.select(n0, lat, f0),
+            f1: s.select(n1, lat, f1),
+            hit: s.andnot(s.lt(t0, t1), miss),
         }
     }
 

@@ -1,4 +1,6 @@
 use super::Seg;
+use crate::packet::{dot, splat3, Lanes, SegLanes};
+use crate::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A plane `n·x = d`; the inside is `n·x <= d`.
@@ -60,6 +62,40 @@ impl Polyhedron {
         }
         if t0 < t1 {
             out.push(Seg { t0, t1, f0, f1 });
+        }
+    }
+
+    /// [`Polyhedron::shoot`] in every lane, operation for operation (a lane
+    /// that the scalar code would leave early stays missed).
+    #[inline(always)]
+    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let zero = s.splat(0.0);
+        let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
+        let (mut f0, mut f1) = (zero, zero);
+        let mut miss = s.none();
+        for (i, pl) in self.planes.iter().enumerate() {
+            let n = splat3(s, pl.n);
+            let denom = dot(s, n, r.d);
+            let dist = s.sub(s.splat(pl.d), dot(s, n, r.o));
+            let flat = s.eq(denom, zero);
+            miss = s.or(miss, s.and(flat, s.lt(dist, zero)));
+            let t = s.div(dist, denom);
+            let entering = s.lt(denom, zero);
+            let face = s.splat(i as f64);
+            let n0 = s.and(entering, s.gt(t, t0));
+            let n1 = s.andnot(s.andnot(s.lt(t, t1), entering), flat);
+            t0 = s.select(n0, t, t0);
+            f0 = s.select(n0, face, f0);
+            t1 = s.select(n1, t, t1);
+            f1 = s.select(n1, face, f1);
+            miss = s.or(miss, s.gt(t0, t1));
+        }
+        SegLanes {
+            t0,
+            t1,
+            f0,
+            f1,
+            hit: s.andnot(s.lt(t0, t1), miss),
         }
     }
 

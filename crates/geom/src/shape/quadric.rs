@@ -1,4 +1,6 @@
 use super::{quadratic, Seg};
+use crate::packet::{along, dot, mat_vec, not, sub_point, Lanes, SegLanes};
+use crate::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// An ellipsoid: the image of the unit sphere under `x = c + M u`.
@@ -55,6 +57,27 @@ impl Ellipsoid {
             f0: 0,
             f1: 0,
         });
+    }
+
+    /// [`Ellipsoid::shoot`] in every lane, operation for operation.
+    #[inline(always)]
+    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let o = mat_vec(s, &self.inv, sub_point(s, r.o, self.c));
+        let d = mat_vec(s, &self.inv, r.d);
+        let dd = dot(s, d, d);
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        let inv = s.div(one, dd);
+        let tc = s.mul(s.neg(dot(s, o, d)), inv);
+        let oc = along(s, o, d, tc);
+        let disc = s.sub(one, dot(s, oc, oc));
+        let h = s.sqrt(s.mul(disc, inv));
+        SegLanes {
+            t0: s.sub(tc, h),
+            t1: s.add(tc, h),
+            f0: zero,
+            f1: zero,
+            hit: not(s, s.or(s.eq(dd, zero), s.lt(disc, zero))),
+        }
     }
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {

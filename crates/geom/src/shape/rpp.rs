@@ -1,4 +1,6 @@
 use super::Seg;
+use crate::packet::{not, Lanes, SegLanes};
+use crate::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// An axis-aligned box (RPP), cast by the slab method with the faces
@@ -35,6 +37,42 @@ impl Rpp {
                 f0: c.f0,
                 f1: c.f1,
             });
+        }
+    }
+
+    /// [`Rpp::shoot`] in every lane, operation for operation: each axis's
+    /// [`Clip::slab`], with the faces held as `f64`.
+    #[inline(always)]
+    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let zero = s.splat(0.0);
+        let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
+        let (mut f0, mut f1) = (zero, zero);
+        let mut miss = s.none();
+        for a in 0..3 {
+            let (o, d, inv) = (r.o[a], r.d[a], r.inv[a]);
+            let (lo, hi) = (s.splat(self.b.min[a]), s.splat(self.b.max[a]));
+            let flat = s.eq(d, zero);
+            // Parallel to the slab: a miss outside it, else no change.
+            miss = s.or(miss, s.and(flat, s.or(s.lt(o, lo), s.gt(o, hi))));
+            let (x0, x1) = (s.mul(s.sub(lo, o), inv), s.mul(s.sub(hi, o), inv));
+            let up = s.gt(d, zero);
+            let (face, next) = (s.splat(2.0 * a as f64), s.splat(2.0 * a as f64 + 1.0));
+            let (near, far) = (s.select(up, x0, x1), s.select(up, x1, x0));
+            let (fnear, ffar) = (s.select(up, face, next), s.select(up, next, face));
+            let n0 = s.andnot(s.gt(near, t0), flat);
+            let n1 = s.andnot(s.lt(far, t1), flat);
+            t0 = s.select(n0, near, t0);
+            f0 = s.select(n0, fnear, f0);
+            t1 = s.select(n1, far, t1);
+            f1 = s.select(n1, ffar, f1);
+            miss = s.or(miss, s.andnot(not(s, s.le(t0, t1)), flat));
+        }
+        SegLanes {
+            t0,
+            t1,
+            f0,
+            f1,
+            hit: s.andnot(s.lt(t0, t1), miss),
         }
     }
 

@@ -1,4 +1,6 @@
 use super::Seg;
+use crate::packet::{back, dot, not, sub_point, Lanes, SegLanes};
+use crate::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A sphere.
@@ -44,6 +46,25 @@ impl Sphere {
             f0: 0,
             f1: 0,
         });
+    }
+
+    /// [`Sphere::shoot`] in every lane, operation for operation.
+    #[inline(always)]
+    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let oc = sub_point(s, r.o, self.c);
+        let b = dot(s, oc, r.d);
+        let f = back(s, oc, r.d, b);
+        let disc = s.sub(s.splat(self.r2), dot(s, f, f));
+        let h = s.sqrt(disc);
+        let nb = s.neg(b);
+        let zero = s.splat(0.0);
+        SegLanes {
+            t0: s.sub(nb, h),
+            t1: s.add(nb, h),
+            f0: zero,
+            f1: zero,
+            hit: not(s, s.lt(disc, zero)),
+        }
     }
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {

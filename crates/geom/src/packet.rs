@@ -1,0 +1,1031 @@
+//! Primary rays in packets: a tile's rays traced several at once, one ray
+//! per vector lane (Wald et al. 2001, "Interactive rendering with
+//! coherent ray tracing"), through the tile's sorted list of zones.
+//!
+//! A packet walks the list once for all its rays: each lane keeps its own
+//! limit and stops where its ray alone would stop, the zone's box and
+//! bodies are tested for every lane at once, and a zone whose bodies are
+//! all convex (spheres, ellipsoids, cones and cylinders, boxes, polyhedra)
+//! has its span intersected and subtracted in the lanes, with exactly the
+//! comparisons of [`Prepared::zone_spans`]. Every other case goes to the
+//! scalar code, one lane at a time: a zone with a torus, a faceted solid,
+//! a quadric or a general cone; a `-` body that splits a span in two.
+//!
+//! Each lane computes with the same IEEE operations, in the same order, as
+//! the scalar tracer does for its ray, so the hits are the same bit for bit
+//! (tested against [`Prepared::first_hit_in`] for every lane width).
+
+use crate::boolean::Bound;
+use crate::prepare::{PZone, Prepared};
+use crate::shape::Shape;
+use crate::simd::Simd;
+use crate::trace::{Hit, Scratch};
+use sv_math::{Aabb, DMat3, Ray};
+
+/// The widest packet of any instruction set.
+pub(crate) const MAX_LANES: usize = 8;
+
+/// The rays of a packet, one vector per coordinate.
+pub(crate) struct Lanes<S: Simd> {
+    /// Origins.
+    pub o: [S::F; 3],
+    /// Unit directions.
+    pub d: [S::F; 3],
+    /// Reciprocals of the directions.
+    pub inv: [S::F; 3],
+}
+
+/// A convex body's segment along each lane's ray, in the lanes of `hit`:
+/// entry and exit, and the faces crossed there (small integers in `f64`).
+pub(crate) struct SegLanes<S: Simd> {
+    pub t0: S::F,
+    pub t1: S::F,
+    pub f0: S::F,
+    pub f1: S::F,
+    pub hit: S::M,
+}
+
+/// One end of a span in every lane: a [`Bound`] with its body and its
+/// face and flip bits held as `f64` (exact below 2⁵³), so that a lane
+/// picks whole ends with one select per field.
+#[derive(Clone, Copy)]
+struct End<S: Simd> {
+    t: S::F,
+    body: S::F,
+    face: S::F,
+}
+
+/// A span in every lane.
+#[derive(Clone, Copy)]
+struct SpanLanes<S: Simd> {
+    a: End<S>,
+    b: End<S>,
+}
+
+/// The flip bit of a [`Bound`], as added to a face held in `f64`.
+const FLIP: f64 = 2_147_483_648.0;
+
+/// `a · b` as glam computes it: `(x + y) + z`.
+#[inline(always)]
+pub(crate) fn dot<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> S::F {
+    s.add(
+        s.add(s.mul(a[0], b[0]), s.mul(a[1], b[1])),
+        s.mul(a[2], b[2]),
+    )
+}
+
+/// `m v` as glam computes it: the columns scaled by `v`'s coordinates and
+/// added left to right.
+///
+/// Everything the packet tracer calls between its entry points (compiled
+/// for an instruction set) and the intrinsics is `#[inline(always)]` and
+/// free of closures: an intrinsic left in a function compiled without its
+/// instruction set stays a call.
+#[inline(always)]
+pub(crate) fn mat_vec<S: Simd>(s: S, m: &DMat3, v: [S::F; 3]) -> [S::F; 3] {
+    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+    [
+        row(s, x.x, y.x, z.x, v),
+        row(s, x.y, y.y, z.y, v),
+        row(s, x.z, y.z, z.z, v),
+    ]
+}
+
+/// One coordinate of [`mat_vec`].
+#[inline(always)]
+fn row<S: Simd>(s: S, a: f64, b: f64, c: f64, v: [S::F; 3]) -> S::F {
+    s.add(
+        s.add(s.mul(s.splat(a), v[0]), s.mul(s.splat(b), v[1])),
+        s.mul(s.splat(c), v[2]),
+    )
+}
+
+/// `p - c` in every lane.
+#[inline(always)]
+pub(crate) fn sub_point<S: Simd>(s: S, p: [S::F; 3], c: sv_math::DVec3) -> [S::F; 3] {
+    [
+        s.sub(p[0], s.splat(c.x)),
+        s.sub(p[1], s.splat(c.y)),
+        s.sub(p[2], s.splat(c.z)),
+    ]
+}
+
+/// `a + b t` in every lane.
+#[inline(always)]
+pub(crate) fn along<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
+    [
+        s.add(a[0], s.mul(b[0], t)),
+        s.add(a[1], s.mul(b[1], t)),
+        s.add(a[2], s.mul(b[2], t)),
+    ]
+}
+
+/// `a - b t` in every lane.
+#[inline(always)]
+pub(crate) fn back<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
+    [
+        s.sub(a[0], s.mul(b[0], t)),
+        s.sub(a[1], s.mul(b[1], t)),
+        s.sub(a[2], s.mul(b[2], t)),
+    ]
+}
+
+/// A point or vector in every lane.
+#[inline(always)]
+pub(crate) fn splat3<S: Simd>(s: S, v: sv_math::DVec3) -> [S::F; 3] {
+    [s.splat(v.x), s.splat(v.y), s.splat(v.z)]
+}
+
+/// Lanes not set in `m`.
+#[inline(always)]
+pub(crate) fn not<S: Simd>(s: S, m: S::M) -> S::M {
+    s.andnot(s.mask(u32::MAX), m)
+}
+
+/// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
+/// [`crate::bvh`]'s `hits`, operation for operation.
+#[inline(always)]
+fn box_lanes<S: Simd>(s: S, b: &Aabb, r: &Lanes<S>, tmin: S::F, tmax: S::F) -> S::M {
+    let mut t0 = tmin;
+    let mut t1 = tmax;
+    for a in 0..3 {
+        let x0 = s.mul(s.sub(s.splat(b.min[a]), r.o[a]), r.inv[a]);
+        let x1 = s.mul(s.sub(s.splat(b.max[a]), r.o[a]), r.inv[a]);
+        t0 = s.max(s.min(x0, x1), t0);
+        t1 = s.min(s.max(x0, x1), t1);
+    }
+    s.le(t0, t1)
+}
+
+impl Shape {
+    /// True for the shapes [`Shape::shoot_lanes`] casts.
+    pub(crate) fn has_lanes(&self) -> bool {
+        matches!(
+            self,
+            Shape::Sphere(_)
+                | Shape::Ellipsoid(_)
+                | Shape::Cone(_)
+                | Shape::Rpp(_)
+                | Shape::Polyhedron(_)
+        )
+    }
+
+    /// [`Shape::shoot`] for every lane, for the shapes of
+    /// [`Shape::has_lanes`] (convex: one segment at most); others hit
+    /// nothing here and are left to the scalar code by the caller.
+    #[inline(always)]
+    fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        match self {
+            Shape::Sphere(b) => b.shoot_lanes(s, r),
+            Shape::Ellipsoid(b) => b.shoot_lanes(s, r),
+            Shape::Cone(b) => b.shoot_lanes(s, r),
+            Shape::Rpp(b) => b.shoot_lanes(s, r),
+            Shape::Polyhedron(b) => b.shoot_lanes(s, r),
+            _ => {
+                let z = s.splat(0.0);
+                SegLanes {
+                    t0: z,
+                    t1: z,
+                    f0: z,
+                    f1: z,
+                    hit: s.none(),
+                }
+            }
+        }
+    }
+}
+
+/// Working values of a packet's lanes, one place per lane, for the lanes
+/// left to the scalar code.
+#[derive(Clone, Copy)]
+struct Spill([f64; MAX_LANES]);
+
+impl Spill {
+    #[inline(always)]
+    fn of<S: Simd>(s: S, x: S::F) -> Spill {
+        let mut v = [0.0; MAX_LANES];
+        s.store(x, &mut v);
+        Spill(v)
+    }
+}
+
+impl Prepared {
+    /// [`Prepared::first_hit_in`] for each of `rays` (a tile's, in the
+    /// order they are given), several rays at once where the processor has
+    /// vector instructions for it. The hits go to the first places of
+    /// `out`, with the index of their ray, in the order of the rays; the
+    /// number of hits is returned. `out` is only ever grown: its places
+    /// past the hits are kept for the next call.
+    pub fn first_hits_in(
+        &self,
+        zones: &[(f64, u32)],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<(u32, Hit)>,
+    ) -> usize {
+        if out.len() < rays.len() {
+            out.resize(rays.len(), (0, Hit::NONE));
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.packets {
+            use crate::simd::{Avx2, Avx512};
+            if let Some(t) = Avx512::detect() {
+                // SAFETY: the token proves the processor has AVX-512F.
+                return unsafe { hits_avx512(self, t, zones, rays, tmin, tmax, s, out) };
+            }
+            if let Some(t) = Avx2::detect() {
+                // SAFETY: the token proves the processor has AVX2.
+                return unsafe { hits_avx2(self, t, zones, rays, tmin, tmax, s, out) };
+            }
+        }
+        self.hits_one_by_one(zones, rays, tmin, tmax, s, out)
+    }
+
+    /// [`Prepared::first_hits_in`] ray by ray.
+    pub(crate) fn hits_one_by_one(
+        &self,
+        zones: &[(f64, u32)],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [(u32, Hit)],
+    ) -> usize {
+        let mut found = 0;
+        for (k, ray) in rays.iter().enumerate() {
+            let slot = &mut out[found];
+            if self.first_hit_in(zones, ray, tmin, tmax, s, &mut slot.1) {
+                slot.0 = k as u32;
+                found += 1;
+            }
+        }
+        found
+    }
+
+    /// [`Prepared::first_hits_in`] in packets of `S::LANES` rays.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn hits_in_packets<S: Simd>(
+        &self,
+        s: S,
+        zones: &[(f64, u32)],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+        out: &mut [(u32, Hit)],
+    ) -> usize {
+        let mut found = 0;
+        for (p, chunk) in rays.chunks(S::LANES).enumerate() {
+            // A short last packet repeats its last ray in the lanes left.
+            let mut v = [[0.0; MAX_LANES]; 9];
+            for j in 0..S::LANES {
+                let r = &chunk[j.min(chunk.len() - 1)];
+                for a in 0..3 {
+                    v[a][j] = r.origin[a];
+                    v[3 + a][j] = r.dir[a];
+                    v[6 + a][j] = r.inv_dir[a];
+                }
+            }
+            let lanes = Lanes::<S> {
+                o: [s.load(&v[0]), s.load(&v[1]), s.load(&v[2])],
+                d: [s.load(&v[3]), s.load(&v[4]), s.load(&v[5])],
+                inv: [s.load(&v[6]), s.load(&v[7]), s.load(&v[8])],
+            };
+            let active = (1u32 << chunk.len()) - 1;
+            let (base, at) = (p * S::LANES, found);
+            found += self.packet_first_hits(
+                s,
+                zones,
+                &lanes,
+                chunk,
+                active,
+                tmin,
+                tmax,
+                sc,
+                &mut out[at..],
+                base as u32,
+            );
+        }
+        found
+    }
+
+    /// The first hits of one packet's rays (`rays`, the lanes of `active`)
+    /// among the sorted `zones`, written to the first places of `out` in
+    /// lane order with their ray's index (`first` plus the lane); returns
+    /// the number of hits.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn packet_first_hits<S: Simd>(
+        &self,
+        s: S,
+        zones: &[(f64, u32)],
+        r: &Lanes<S>,
+        rays: &[Ray],
+        active: u32,
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+        out: &mut [(u32, Hit)],
+        first: u32,
+    ) -> usize {
+        let tmin_l = s.splat(tmin);
+        let mut limit = s.splat(tmax);
+        let mut best_t = s.splat(f64::INFINITY);
+        let mut best_region = s.splat(f64::from(u32::MAX));
+        let mut best_zone = s.splat(f64::from(u32::MAX));
+        let mut best_inside = s.none();
+        let mut best_a = End::<S> {
+            t: best_t,
+            body: best_zone,
+            face: s.splat(0.0),
+        };
+        let mut alive = s.mask(active);
+        for &(near, zi) in zones {
+            // A lane stops at the first zone that cannot come nearer than
+            // its best hit, as the ray alone would.
+            alive = s.andnot(alive, s.gt(s.splat(near), limit));
+            if !s.any(alive) {
+                break;
+            }
+            let z = &self.zones[zi as usize];
+            let m = s.and(alive, box_lanes(s, &z.bounds, r, tmin_l, limit));
+            if !s.any(m) {
+                continue;
+            }
+            let (mut sp, mut valid, scalar) = if z.lanes {
+                self.zone_lanes(s, z, r, m, tmin_l, limit)
+            } else {
+                let z0 = End {
+                    t: tmin_l,
+                    body: tmin_l,
+                    face: tmin_l,
+                };
+                (SpanLanes { a: z0, b: z0 }, s.none(), m)
+            };
+            let left = s.bits(scalar);
+            if left != 0 {
+                (sp.a, valid) =
+                    self.spans_one_by_one(s, z, rays, left, limit, tmin, sc, sp.a, valid);
+            }
+            if !s.any(valid) {
+                continue;
+            }
+            // The best so far: the lowest entry, ties to the lower region.
+            let inside = s.andnot(valid, s.gt(sp.a.t, tmin_l));
+            let t = s.select(inside, tmin_l, sp.a.t);
+            let region = s.splat(f64::from(z.region));
+            let better = s.and(
+                valid,
+                s.or(
+                    s.lt(t, best_t),
+                    s.and(s.eq(t, best_t), s.lt(region, best_region)),
+                ),
+            );
+            if !s.any(better) {
+                continue;
+            }
+            best_t = s.select(better, t, best_t);
+            best_region = s.select(better, region, best_region);
+            best_zone = s.select(better, s.splat(f64::from(zi)), best_zone);
+            best_inside = s.or(s.and(better, inside), s.andnot(best_inside, better));
+            best_a = End {
+                t: s.select(better, sp.a.t, best_a.t),
+                body: s.select(better, sp.a.body, best_a.body),
+                face: s.select(better, sp.a.face, best_a.face),
+            };
+            // Keep equal-t candidates reachable for the tie rule.
+            let slack = s.min(
+                s.add(s.mul(s.abs(t), s.splat(1e-15)), s.splat(f64::MIN_POSITIVE)),
+                s.splat(self.tol),
+            );
+            limit = s.select(better, s.add(t, slack), limit);
+        }
+        let hit = s.bits(s.lt(best_region, s.splat(f64::from(u32::MAX))));
+        if hit == 0 {
+            return 0;
+        }
+        let (t, region, zone) = (
+            Spill::of(s, best_t),
+            Spill::of(s, best_region),
+            Spill::of(s, best_zone),
+        );
+        let (at, body, face) = (
+            Spill::of(s, best_a.t),
+            Spill::of(s, best_a.body),
+            Spill::of(s, best_a.face),
+        );
+        let inside = s.bits(best_inside);
+        let mut n = 0;
+        for j in 0..S::LANES {
+            if hit & (1 << j) != 0 {
+                // Written in place, field by field (see `first_hit_in`).
+                let slot = &mut out[n];
+                slot.0 = first + j as u32;
+                slot.1 = Hit {
+                    t: t.0[j],
+                    region: region.0[j] as u32,
+                    bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
+                    inside: inside & (1 << j) != 0,
+                    zone: zone.0[j] as u32,
+                };
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// The zone's first span (entry) for the lanes in `lanes` by the
+    /// scalar code, one ray at a time, written over `a` and `valid`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn spans_one_by_one<S: Simd>(
+        &self,
+        s: S,
+        z: &PZone,
+        rays: &[Ray],
+        lanes: u32,
+        limit: S::F,
+        tmin: f64,
+        sc: &mut Scratch,
+        a: End<S>,
+        valid: S::M,
+    ) -> (End<S>, S::M) {
+        let limit = Spill::of(s, limit);
+        let (mut t, mut body, mut face) = (
+            Spill::of(s, a.t),
+            Spill::of(s, a.body),
+            Spill::of(s, a.face),
+        );
+        let mut valid = s.bits(valid);
+        for j in 0..S::LANES {
+            if lanes & (1 << j) == 0 {
+                continue;
+            }
+            let ray = &rays[j.min(rays.len() - 1)];
+            sc.new_ray();
+            if self.zone_spans(z, ray, tmin, limit.0[j], sc) {
+                let e = sc.cur[0].a;
+                t.0[j] = e.t;
+                body.0[j] = f64::from(e.body);
+                face.0[j] = f64::from(e.face_flip());
+                valid |= 1 << j;
+            }
+        }
+        (
+            End {
+                t: s.load(&t.0),
+                body: s.load(&body.0),
+                face: s.load(&face.0),
+            },
+            s.mask(valid),
+        )
+    }
+
+    /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
+    /// zone of [`PZone::lanes`]: the span, the lanes that have one, and the
+    /// lanes left to the scalar code (where a `-` body split the span and
+    /// its first piece did not last). Each step is
+    /// [`Prepared::convex_spans`]' for one span and one segment.
+    #[inline(always)]
+    fn zone_lanes<S: Simd>(
+        &self,
+        s: S,
+        z: &PZone,
+        r: &Lanes<S>,
+        m: S::M,
+        lo: S::F,
+        hi: S::F,
+    ) -> (SpanLanes<S>, S::M, S::M) {
+        let first = z.first as usize;
+        let terms = &self.terms[first..first + z.plus as usize + z.minus as usize];
+        let (plus, minus) = terms.split_at(z.plus as usize);
+        let tol = s.splat(self.tol);
+        let mut alive = m;
+        let mut cur: Option<SpanLanes<S>> = None;
+        for &b in plus {
+            // A lone `+` body has the zone's bounds, which the rays meet.
+            if plus.len() > 1 {
+                let inf = s.splat(f64::INFINITY);
+                let bounds = &self.body_bounds[b as usize];
+                alive = s.and(alive, box_lanes(s, bounds, r, s.neg(inf), inf));
+            }
+            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            alive = s.and(alive, g.hit);
+            let q = span(s, &g, b);
+            cur = Some(match cur {
+                None => {
+                    alive = s.and(alive, s.and(s.gt(q.b.t, lo), s.lt(q.a.t, hi)));
+                    q
+                }
+                Some(p) => {
+                    let a = pick(s, s.ge(p.a.t, q.a.t), p.a, q.a);
+                    let b = pick(s, s.le(p.b.t, q.b.t), p.b, q.b);
+                    alive = s.and(alive, s.gt(s.sub(b.t, a.t), tol));
+                    SpanLanes { a, b }
+                }
+            });
+            if !s.any(alive) {
+                break;
+            }
+        }
+        let (Some(mut cur), true) = (cur, s.any(alive)) else {
+            let z0 = End {
+                t: lo,
+                body: lo,
+                face: lo,
+            };
+            return (SpanLanes { a: z0, b: z0 }, s.none(), s.none());
+        };
+        let mut split = s.none();
+        for &b in minus {
+            let mm = s.and(
+                alive,
+                box_lanes(s, &self.body_bounds[b as usize], r, cur.a.t, cur.b.t),
+            );
+            if !s.any(mm) {
+                continue;
+            }
+            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            // The segment reaches past the span's start and begins before
+            // its end.
+            let mm = s.andnot(
+                s.and(mm, g.hit),
+                s.or(s.ge(g.t0, cur.b.t), s.le(g.t1, cur.a.t)),
+            );
+            if !s.any(mm) {
+                continue;
+            }
+            let c = span(s, &g, b);
+            let start = cur.a;
+            let before = s.and(s.gt(c.a.t, start.t), s.gt(s.sub(c.a.t, start.t), tol));
+            let new_start = pick(s, s.gt(c.b.t, start.t), flip(s, c.b), start);
+            let after = s.gt(s.sub(cur.b.t, new_start.t), tol);
+            // Two spans: the lanes follow the first, which stays the
+            // zone's first span while anything of it is left (the lists
+            // would cut it by the same steps; it is longer than `tol`, so
+            // the lists never drop it untouched).
+            split = s.or(split, s.and(mm, s.and(before, after)));
+            alive = s.andnot(alive, s.andnot(s.andnot(mm, before), after));
+            cur.b = pick(s, s.and(mm, before), flip(s, c.a), cur.b);
+            cur.a = pick(s, s.andnot(s.and(mm, after), before), new_start, cur.a);
+            if !s.any(alive) {
+                break;
+            }
+        }
+        let valid = s.and(alive, s.and(s.gt(cur.b.t, lo), s.lt(cur.a.t, hi)));
+        // Where the first of two spans went, or lies before `lo`, the first
+        // span is another: the scalar code finds it.
+        (cur, valid, s.andnot(split, valid))
+    }
+}
+
+/// A body's segment in every lane as a span bounded by its faces.
+#[inline(always)]
+fn span<S: Simd>(s: S, g: &SegLanes<S>, b: u32) -> SpanLanes<S> {
+    let body = s.splat(f64::from(b));
+    SpanLanes {
+        a: End {
+            t: g.t0,
+            body,
+            face: g.f0,
+        },
+        b: End {
+            t: g.t1,
+            body,
+            face: g.f1,
+        },
+    }
+}
+
+/// `if c { x } else { y }`, lane by lane.
+#[inline(always)]
+fn pick<S: Simd>(s: S, c: S::M, x: End<S>, y: End<S>) -> End<S> {
+    End {
+        t: s.select(c, x.t, y.t),
+        body: s.select(c, x.body, y.body),
+        face: s.select(c, x.face, y.face),
+    }
+}
+
+/// The end of a subtracted body ([`crate::boolean::flipped`] of an end
+/// from a shot, which has no flip bit).
+#[inline(always)]
+fn flip<S: Simd>(s: S, e: End<S>) -> End<S> {
+    End {
+        face: s.add(e.face, s.splat(FLIP)),
+        ..e
+    }
+}
+
+/// [`Prepared::hits_in_packets`] compiled for AVX-512.
+///
+/// # Safety
+/// The processor must have AVX-512F (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn hits_avx512(
+    p: &Prepared,
+    t: crate::simd::Avx512,
+    zones: &[(f64, u32)],
+    rays: &[Ray],
+    tmin: f64,
+    tmax: f64,
+    s: &mut Scratch,
+    out: &mut [(u32, Hit)],
+) -> usize {
+    p.hits_in_packets(t, zones, rays, tmin, tmax, s, out)
+}
+
+/// [`Prepared::hits_in_packets`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must have AVX2 (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn hits_avx2(
+    p: &Prepared,
+    t: crate::simd::Avx2,
+    zones: &[(f64, u32)],
+    rays: &[Ray],
+    tmin: f64,
+    tmax: f64,
+    s: &mut Scratch,
+    out: &mut [(u32, Hit)],
+) -> usize {
+    p.hits_in_packets(t, zones, rays, tmin, tmax, s, out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simd::Portable;
+    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+    use rand::{Rng, SeedableRng};
+    use sv_math::DVec3;
+
+    /// Bodies of every kind the lanes cast, about the origin, and a few
+    /// they do not (a torus, a general cone), with flush faces among them.
+    fn bodies(rng: &mut impl Rng) -> Vec<Body> {
+        let mut out = Vec::new();
+        let v = |r: &mut dyn FnMut() -> f64| [r(), r(), r()];
+        for i in 0..48 {
+            let mut u = || rng.gen_range(-1.0..1.0);
+            let p = v(&mut u);
+            let (kind, params): (BodyKind, Vec<f64>) = match i % 16 {
+                0 => (BodyKind::Sph, vec![p[0], p[1], p[2], 0.3 + 0.5 * u().abs()]),
+                1 => (
+                    BodyKind::Rcc,
+                    [p.to_vec(), v(&mut u).to_vec(), vec![0.25]].concat(),
+                ),
+                // Along an axis: rays parallel to it and through its ends.
+                2 => (BodyKind::Rcc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.4]),
+                3 => (
+                    BodyKind::Trc,
+                    [p.to_vec(), v(&mut u).to_vec(), vec![0.5, 0.1]].concat(),
+                ),
+                4 => (
+                    BodyKind::Trc,
+                    [p.to_vec(), v(&mut u).to_vec(), vec![0.1, 0.6]].concat(),
+                ),
+                5 => (BodyKind::Rpp, vec![-0.5, 0.5, -0.5, 0.5, -0.5, 0.5]),
+                6 => {
+                    let q = v(&mut u);
+                    (
+                        BodyKind::Rpp,
+                        vec![
+                            q[0].min(p[0]),
+                            q[0].max(p[0]),
+                            q[1].min(p[1]),
+                            q[1].max(p[1]),
+                            -0.5,
+                            0.5,
+                        ],
+                    )
+                }
+                7 => (
+                    BodyKind::Ell1,
+                    [p.to_vec(), v(&mut u).to_vec(), vec![0.3]].concat(),
+                ),
+                8 => (
+                    BodyKind::Box,
+                    [
+                        p.to_vec(),
+                        vec![0.6, 0.3, 0.0, -0.3, 0.6, 0.0, 0.0, 0.0, 0.7],
+                    ]
+                    .concat(),
+                ),
+                9 => (
+                    BodyKind::Raw,
+                    [
+                        p.to_vec(),
+                        vec![0.8, 0.0, 0.0, 0.0, 0.6, 0.0, 0.0, 0.0, 0.5],
+                    ]
+                    .concat(),
+                ),
+                10 => (BodyKind::Haf, vec![0.0, 0.0, 1.0, -0.2]),
+                11 => (
+                    BodyKind::Arb8,
+                    vec![
+                        -0.6, -0.6, -0.6, 0.6, -0.6, -0.6, 0.6, 0.6, -0.6, -0.6, 0.6, -0.6, -0.3,
+                        -0.3, 0.6, 0.3, -0.3, 0.6, 0.3, 0.3, 0.6, -0.3, 0.3, 0.6,
+                    ],
+                ),
+                12 => (
+                    BodyKind::Tor,
+                    vec![p[0], p[1], p[2], 0.0, 0.0, 1.0, 0.5, 0.15],
+                ),
+                13 => (
+                    BodyKind::Tgc,
+                    [
+                        p.to_vec(),
+                        vec![0.0, 0.0, 0.8, 0.5, 0.0, 0.0, 0.0, 0.3, 0.0, 0.2, 0.25],
+                    ]
+                    .concat(),
+                ),
+                14 => (
+                    BodyKind::Tec,
+                    [
+                        p.to_vec(),
+                        vec![0.0, 0.1, 0.9, 0.4, 0.0, 0.0, 0.0, 0.25, 0.0, 1.5],
+                    ]
+                    .concat(),
+                ),
+                _ => (
+                    BodyKind::Rec,
+                    [
+                        p.to_vec(),
+                        vec![0.9, 0.0, 0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.2],
+                    ]
+                    .concat(),
+                ),
+            };
+            out.push(Body::new(format!("b{i}"), kind, params));
+        }
+        out
+    }
+
+    /// Zones of random bodies, or zones made to sit on the tolerances
+    /// (apart, so that the random ones do not hide them): `+` and `-`
+    /// bodies flush with each other, a body less itself, cones whose
+    /// generators the rays below run along.
+    fn geometry(rng: &mut impl Rng, made_only: bool) -> Geometry {
+        let mut g = Geometry {
+            bodies: bodies(rng),
+            ..Default::default()
+        };
+        let n = g.bodies.len();
+        let edge: [(BodyKind, Vec<f64>); 8] = [
+            (BodyKind::Rpp, vec![0.5, 1.5, -0.5, 0.5, -0.5, 0.5]),
+            (BodyKind::Rpp, vec![-0.5, 0.0, -0.5, 0.5, -0.5, 0.5]),
+            (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.6, 0.2]),
+            (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.2, 0.6]),
+            (BodyKind::Rcc, vec![0.0, 0.0, -0.5, 0.0, 0.0, 1.0, 0.5]),
+            (BodyKind::Sph, vec![0.0, 0.0, 0.0, 0.5]),
+            // The cube's halves as polyhedra: their faces' distances come
+            // out a few units in the last place off the box's.
+            (
+                BodyKind::Box,
+                vec![
+                    -0.5, -0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+                ],
+            ),
+            (
+                BodyKind::Box,
+                vec![0.0, -0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            ),
+        ];
+        for (i, (kind, params)) in edge.into_iter().enumerate() {
+            g.bodies.push(Body::new(format!("e{i}"), kind, params));
+        }
+        let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
+        let (low, high) = (n + 6, n + 7);
+        let zone = |plus: &[usize], minus: &[usize]| Zone {
+            terms: plus
+                .iter()
+                .map(|&body| Term {
+                    op: Op::Inside,
+                    body,
+                })
+                .chain(minus.iter().map(|&body| Term {
+                    op: Op::Outside,
+                    body,
+                }))
+                .collect(),
+        };
+        let made = [
+            zone(&[cube, flush], &[]),
+            zone(&[cube], &[flush]),
+            zone(&[cube], &[half]),
+            zone(&[cube, half], &[]),
+            zone(&[cube], &[cube]),
+            zone(&[cone], &[]),
+            zone(&[cup], &[cyl]),
+            zone(&[cyl], &[ball]),
+            zone(&[ball], &[cyl]),
+            zone(&[cube], &[cone, ball]),
+            zone(&[cube], &[low]),
+            zone(&[cube], &[high]),
+            zone(&[cube, low], &[]),
+            zone(&[low], &[half]),
+            zone(&[cube], &[high, low]),
+        ];
+        for (r, z) in made.into_iter().enumerate() {
+            g.regions.push(Region {
+                name: format!("m{r}"),
+                zones: vec![z],
+            });
+        }
+        if made_only {
+            return g;
+        }
+        for r in 0..60 {
+            let zones = (0..1 + usize::from(r % 7 == 0))
+                .map(|_| {
+                    let plus: Vec<usize> = (0..1 + usize::from(rng.gen_bool(0.3)))
+                        .map(|_| rng.gen_range(0..n))
+                        .collect();
+                    let minus: Vec<usize> = (0..rng.gen_range(0..4))
+                        .map(|_| rng.gen_range(0..n))
+                        .collect();
+                    zone(&plus, &minus)
+                })
+                .collect();
+            g.regions.push(Region {
+                name: format!("r{r}"),
+                zones,
+            });
+        }
+        g
+    }
+
+    /// Rays for one batch: a pinhole's from one eye, or an orthographic
+    /// view's; some along the axes from points on the faces of the boxes
+    /// (rays in face planes, infinite reciprocals), some along a
+    /// generator of the cones.
+    fn rays(rng: &mut impl Rng, batch: usize) -> (Vec<Ray>, DVec3, Option<DVec3>) {
+        let mut u = |a: f64| rng.gen_range(-a..a);
+        let eye = DVec3::new(u(3.0), u(3.0), u(3.0));
+        let on_face = [-0.5, 0.0, 0.5, 1.5];
+        let axis = [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z][batch % 4];
+        let rays: Vec<Ray> = match batch % 5 {
+            // Parallel rays along an axis, from points on the boxes' faces.
+            0 => (0..37)
+                .map(|i| {
+                    let mut p =
+                        DVec3::new(on_face[i % 4], on_face[(i / 4) % 4], on_face[(i / 3) % 4]);
+                    if i % 5 == 4 {
+                        p += DVec3::new(u(0.7), u(0.7), u(0.7));
+                    }
+                    // Through the boxes' edges, entering two faces at once.
+                    if i % 5 == 3 {
+                        let c = on_face[i % 4];
+                        let diagonal = [DVec3::new(1.0, 1.0, 0.0), DVec3::ONE][i % 2];
+                        return Ray::new(
+                            DVec3::new(c, c, c * diagonal.z) - diagonal * 2.0,
+                            diagonal,
+                        );
+                    }
+                    // On the plane 4 behind the origin.
+                    Ray::new(p - axis * (axis.dot(p) + 4.0), axis)
+                })
+                .collect(),
+            // Along the generators of the two cones, x = ±0.4 per 2 up.
+            1 => (0..37)
+                .map(|i| {
+                    let dir = DVec3::new(if i % 2 == 0 { -0.4 } else { 0.4 }, 0.0, 2.0);
+                    let o = DVec3::new(u(0.8), u(0.8), -3.0);
+                    Ray::new(o, dir)
+                })
+                .collect(),
+            2 => {
+                let view = (DVec3::ZERO - eye).normalize();
+                (0..37)
+                    .map(|_| {
+                        let j = DVec3::new(u(1.0), u(1.0), u(1.0));
+                        Ray::new(eye + (j - view * j.dot(view)) * 1.5, view)
+                    })
+                    .collect()
+            }
+            _ => {
+                let view = (DVec3::ZERO - eye).normalize();
+                (0..37)
+                    .map(|_| Ray::new(eye, view + DVec3::new(u(0.6), u(0.6), u(0.6))))
+                    .collect()
+            }
+        };
+        let ortho = batch % 5 < 3;
+        let dir = rays[0].dir;
+        let eye = if ortho {
+            rays[0].origin - dir * 10.0
+        } else {
+            eye
+        };
+        (rays, eye, ortho.then_some(dir))
+    }
+
+    /// Bit-for-bit equality of two hit lists.
+    fn same(a: &[(u32, Hit)], b: &[(u32, Hit)]) -> bool {
+        a.len() == b.len()
+            && a.iter().zip(b).all(|((ka, x), (kb, y))| {
+                ka == kb
+                    && x.t.to_bits() == y.t.to_bits()
+                    && x.bound.t.to_bits() == y.bound.t.to_bits()
+                    && x.bound.body == y.bound.body
+                    && x.bound.face_flip() == y.bound.face_flip()
+                    && (x.region, x.zone, x.inside) == (y.region, y.zone, y.inside)
+            })
+    }
+
+    #[test]
+    fn packets_find_the_hits_of_rays_traced_one_by_one() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+        let (mut lanes_zones, mut other_zones, mut hits, mut rays_cast) = (0, 0, 0, 0);
+        for i in 0..8 {
+            let g = geometry(&mut rng, i % 2 == 0);
+            let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+            lanes_zones += p.zones.iter().filter(|z| z.lanes).count();
+            other_zones += p.zones.iter().filter(|z| !z.lanes).count();
+            let all: Vec<u32> = (0..p.zones.len() as u32).collect();
+            let mut s = Scratch::new(&p);
+            let (mut sorted, mut one, mut many) = (Vec::new(), Vec::new(), Vec::new());
+            for batch in 0..100 {
+                let (rays, eye, parallel) = rays(&mut rng, batch);
+                // The rays along the axes, through edges and along the
+                // generators share no plane of origins: their list is every
+                // zone from the lowest entry.
+                if batch % 5 < 2 {
+                    sorted.clear();
+                    sorted.extend(all.iter().map(|&z| (f64::NEG_INFINITY, z)));
+                } else {
+                    p.by_distance(&all, eye, parallel, &mut sorted);
+                }
+                let tmin = if batch % 7 == 3 { 0.5 } else { 0.0 };
+                one.clear();
+                one.resize(rays.len(), (0, Hit::NONE));
+                let n = p.hits_one_by_one(&sorted, &rays, tmin, f64::INFINITY, &mut s, &mut one);
+                one.truncate(n);
+                hits += n;
+                rays_cast += rays.len();
+                many.clear();
+                many.resize(rays.len(), (0, Hit::NONE));
+                let m = p.hits_in_packets(
+                    Portable,
+                    &sorted,
+                    &rays,
+                    tmin,
+                    f64::INFINITY,
+                    &mut s,
+                    &mut many,
+                );
+                assert!(same(&one, &many[..m]), "four portable lanes, batch {batch}");
+                #[cfg(target_arch = "x86_64")]
+                {
+                    if let Some(t) = crate::simd::Avx512::detect() {
+                        // SAFETY: the token proves the instructions are there.
+                        let m = unsafe {
+                            hits_avx512(
+                                &p,
+                                t,
+                                &sorted,
+                                &rays,
+                                tmin,
+                                f64::INFINITY,
+                                &mut s,
+                                &mut many,
+                            )
+                        };
+                        assert!(same(&one, &many[..m]), "AVX-512, batch {batch}");
+                    }
+                    if let Some(t) = crate::simd::Avx2::detect() {
+                        // SAFETY: as above.
+                        let m = unsafe {
+                            hits_avx2(
+                                &p,
+                                t,
+                                &sorted,
+                                &rays,
+                                tmin,
+                                f64::INFINITY,
+                                &mut s,
+                                &mut many,
+                            )
+                        };
+                        assert!(same(&one, &many[..m]), "AVX2, batch {batch}");
+                    }
+                }
+            }
+        }
+        // Zones in lanes and zones left to the scalar code were both met,
+        // and many rays hit.
+        assert!(
+            lanes_zones > 100 && other_zones > 20,
+            "{lanes_zones} {other_zones}"
+        );
+        assert!(hits * 3 > rays_cast, "{hits} of {rays_cast}");
+    }
+}

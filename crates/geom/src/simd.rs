@@ -1,0 +1,452 @@
+//! Lanes of `f64` for tracing several rays at once.
+//!
+//! The packet tracer ([`crate::packet`]) is written once, generic over
+//! [`Simd`], and compiled for each instruction set found at run time:
+//! AVX-512 (eight lanes) and AVX2 (four), on x86-64. [`Portable`] is the
+//! same four lanes in plain arrays, for the tests on any machine.
+//!
+//! Every operation is the IEEE operation of the scalar code lane by lane
+//! (no fused multiply-add, no approximate reciprocal or root), so a lane
+//! computes bit for bit what the scalar tracer computes for its ray.
+//!
+//! The methods take the instruction set's token by value: a token exists
+//! only once its instructions were found on the processor
+//! ([`Avx512::detect`], [`Avx2::detect`]), which is what makes the
+//! intrinsics inside them sound to call.
+
+/// A vector instruction set: `LANES` values of `f64` and masks over them.
+pub(crate) trait Simd: Copy {
+    /// Lanes per vector.
+    const LANES: usize;
+    /// `LANES` values.
+    type F: Copy;
+    /// A mask: one flag per lane.
+    type M: Copy;
+
+    /// Every lane `v`.
+    fn splat(self, v: f64) -> Self::F;
+    /// The first `LANES` values of `v`.
+    fn load(self, v: &[f64]) -> Self::F;
+    /// Into the first `LANES` places of `out`.
+    fn store(self, x: Self::F, out: &mut [f64]);
+    /// `a + b`.
+    fn add(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a - b`.
+    fn sub(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a * b`.
+    fn mul(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a / b`.
+    fn div(self, a: Self::F, b: Self::F) -> Self::F;
+    /// Correctly rounded square root.
+    fn sqrt(self, a: Self::F) -> Self::F;
+    /// `-a` (the sign flipped, as the scalar unary minus).
+    fn neg(self, a: Self::F) -> Self::F;
+    /// `|a|`.
+    fn abs(self, a: Self::F) -> Self::F;
+    /// The magnitude of `mag` with the sign of `sign`.
+    fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F;
+    /// `if a < b { a } else { b }`, lane by lane.
+    fn min(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `if a > b { a } else { b }`, lane by lane.
+    fn max(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a < b`.
+    fn lt(self, a: Self::F, b: Self::F) -> Self::M;
+    /// `a <= b`.
+    fn le(self, a: Self::F, b: Self::F) -> Self::M;
+    /// `a == b`.
+    fn eq(self, a: Self::F, b: Self::F) -> Self::M;
+    /// Lanes set in both.
+    fn and(self, a: Self::M, b: Self::M) -> Self::M;
+    /// Lanes set in either.
+    fn or(self, a: Self::M, b: Self::M) -> Self::M;
+    /// Lanes set in `a` and not in `b`.
+    fn andnot(self, a: Self::M, b: Self::M) -> Self::M;
+    /// `if m { a } else { b }`, lane by lane.
+    fn select(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
+    /// Bit `i` set for lane `i`.
+    fn bits(self, m: Self::M) -> u32;
+    /// The mask of the low `LANES` bits of `b`.
+    fn mask(self, b: u32) -> Self::M;
+
+    /// `a > b`.
+    #[inline(always)]
+    fn gt(self, a: Self::F, b: Self::F) -> Self::M {
+        self.lt(b, a)
+    }
+    /// `a >= b`.
+    #[inline(always)]
+    fn ge(self, a: Self::F, b: Self::F) -> Self::M {
+        self.le(b, a)
+    }
+    /// True when any lane is set.
+    #[inline(always)]
+    fn any(self, m: Self::M) -> bool {
+        self.bits(m) != 0
+    }
+    /// The mask with no lane set.
+    #[inline(always)]
+    fn none(self) -> Self::M {
+        self.mask(0)
+    }
+}
+
+/// Four lanes in plain arrays: the packet tracer's reference form, which
+/// runs anywhere (the tests hold the vector forms to it and to the scalar
+/// tracer).
+#[cfg(test)]
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Portable;
+
+#[cfg(test)]
+const P: usize = 4;
+
+/// One lane at a time.
+#[cfg(test)]
+#[inline(always)]
+fn lanes<T: Copy>(f: impl Fn(usize) -> T) -> [T; P] {
+    std::array::from_fn(f)
+}
+
+#[cfg(test)]
+impl Simd for Portable {
+    const LANES: usize = P;
+    type F = [f64; P];
+    type M = [bool; P];
+
+    #[inline(always)]
+    fn splat(self, v: f64) -> Self::F {
+        [v; P]
+    }
+    #[inline(always)]
+    fn load(self, v: &[f64]) -> Self::F {
+        lanes(|i| v[i])
+    }
+    #[inline(always)]
+    fn store(self, x: Self::F, out: &mut [f64]) {
+        out[..P].copy_from_slice(&x);
+    }
+    #[inline(always)]
+    fn add(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| a[i] + b[i])
+    }
+    #[inline(always)]
+    fn sub(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| a[i] - b[i])
+    }
+    #[inline(always)]
+    fn mul(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| a[i] * b[i])
+    }
+    #[inline(always)]
+    fn div(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| a[i] / b[i])
+    }
+    #[inline(always)]
+    fn sqrt(self, a: Self::F) -> Self::F {
+        lanes(|i| a[i].sqrt())
+    }
+    #[inline(always)]
+    fn neg(self, a: Self::F) -> Self::F {
+        lanes(|i| -a[i])
+    }
+    #[inline(always)]
+    fn abs(self, a: Self::F) -> Self::F {
+        lanes(|i| a[i].abs())
+    }
+    #[inline(always)]
+    fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {
+        lanes(|i| mag[i].copysign(sign[i]))
+    }
+    #[inline(always)]
+    fn min(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| if a[i] < b[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn max(self, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| if a[i] > b[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn lt(self, a: Self::F, b: Self::F) -> Self::M {
+        lanes(|i| a[i] < b[i])
+    }
+    #[inline(always)]
+    fn le(self, a: Self::F, b: Self::F) -> Self::M {
+        lanes(|i| a[i] <= b[i])
+    }
+    #[inline(always)]
+    fn eq(self, a: Self::F, b: Self::F) -> Self::M {
+        lanes(|i| a[i] == b[i])
+    }
+    #[inline(always)]
+    fn and(self, a: Self::M, b: Self::M) -> Self::M {
+        lanes(|i| a[i] & b[i])
+    }
+    #[inline(always)]
+    fn or(self, a: Self::M, b: Self::M) -> Self::M {
+        lanes(|i| a[i] | b[i])
+    }
+    #[inline(always)]
+    fn andnot(self, a: Self::M, b: Self::M) -> Self::M {
+        lanes(|i| a[i] & !b[i])
+    }
+    #[inline(always)]
+    fn select(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F {
+        lanes(|i| if m[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn bits(self, m: Self::M) -> u32 {
+        (0..P).fold(0, |b, i| b | (u32::from(m[i]) << i))
+    }
+    #[inline(always)]
+    fn mask(self, b: u32) -> Self::M {
+        lanes(|i| b & (1 << i) != 0)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use x86::{Avx2, Avx512};
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::Simd;
+    use std::arch::x86_64::*;
+
+    /// AVX-512 (the foundation set): eight lanes, masks in mask registers.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Avx512(());
+
+    impl Avx512 {
+        /// The token, when this processor has AVX-512F.
+        pub(crate) fn detect() -> Option<Avx512> {
+            is_x86_feature_detected!("avx512f").then_some(Avx512(()))
+        }
+    }
+
+    // SAFETY (every `unsafe` block below): a token exists only when the
+    // processor has the instructions (`detect`), and every pointer access
+    // is bounds-checked by the slice indexing before it.
+    impl Simd for Avx512 {
+        const LANES: usize = 8;
+        type F = __m512d;
+        type M = __mmask8;
+
+        #[inline(always)]
+        fn splat(self, v: f64) -> Self::F {
+            unsafe { _mm512_set1_pd(v) }
+        }
+        #[inline(always)]
+        fn load(self, v: &[f64]) -> Self::F {
+            let v = &v[..8];
+            unsafe { _mm512_loadu_pd(v.as_ptr()) }
+        }
+        #[inline(always)]
+        fn store(self, x: Self::F, out: &mut [f64]) {
+            let out = &mut out[..8];
+            unsafe { _mm512_storeu_pd(out.as_mut_ptr(), x) }
+        }
+        #[inline(always)]
+        fn add(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_add_pd(a, b) }
+        }
+        #[inline(always)]
+        fn sub(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_sub_pd(a, b) }
+        }
+        #[inline(always)]
+        fn mul(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_mul_pd(a, b) }
+        }
+        #[inline(always)]
+        fn div(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_div_pd(a, b) }
+        }
+        #[inline(always)]
+        fn sqrt(self, a: Self::F) -> Self::F {
+            unsafe { _mm512_sqrt_pd(a) }
+        }
+        #[inline(always)]
+        fn neg(self, a: Self::F) -> Self::F {
+            unsafe {
+                _mm512_castsi512_pd(_mm512_xor_si512(
+                    _mm512_castpd_si512(a),
+                    _mm512_set1_epi64(i64::MIN),
+                ))
+            }
+        }
+        #[inline(always)]
+        fn abs(self, a: Self::F) -> Self::F {
+            unsafe { _mm512_abs_pd(a) }
+        }
+        #[inline(always)]
+        fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {
+            unsafe {
+                let s = _mm512_set1_epi64(i64::MIN);
+                _mm512_castsi512_pd(_mm512_or_si512(
+                    _mm512_andnot_si512(s, _mm512_castpd_si512(mag)),
+                    _mm512_and_si512(s, _mm512_castpd_si512(sign)),
+                ))
+            }
+        }
+        #[inline(always)]
+        fn min(self, a: Self::F, b: Self::F) -> Self::F {
+            // `vminpd a, b` gives `b` unless `a < b`, as the scalar code.
+            unsafe { _mm512_min_pd(a, b) }
+        }
+        #[inline(always)]
+        fn max(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_max_pd(a, b) }
+        }
+        #[inline(always)]
+        fn lt(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn le(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_LE_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn eq(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn and(self, a: Self::M, b: Self::M) -> Self::M {
+            a & b
+        }
+        #[inline(always)]
+        fn or(self, a: Self::M, b: Self::M) -> Self::M {
+            a | b
+        }
+        #[inline(always)]
+        fn andnot(self, a: Self::M, b: Self::M) -> Self::M {
+            a & !b
+        }
+        #[inline(always)]
+        fn select(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm512_mask_blend_pd(m, b, a) }
+        }
+        #[inline(always)]
+        fn bits(self, m: Self::M) -> u32 {
+            u32::from(m)
+        }
+        #[inline(always)]
+        fn mask(self, b: u32) -> Self::M {
+            b as u8
+        }
+    }
+
+    /// AVX2: four lanes, masks as all-ones lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub(crate) struct Avx2(());
+
+    impl Avx2 {
+        /// The token, when this processor has AVX2.
+        pub(crate) fn detect() -> Option<Avx2> {
+            is_x86_feature_detected!("avx2").then_some(Avx2(()))
+        }
+    }
+
+    // SAFETY: as for `Avx512`.
+    impl Simd for Avx2 {
+        const LANES: usize = 4;
+        type F = __m256d;
+        type M = __m256d;
+
+        #[inline(always)]
+        fn splat(self, v: f64) -> Self::F {
+            unsafe { _mm256_set1_pd(v) }
+        }
+        #[inline(always)]
+        fn load(self, v: &[f64]) -> Self::F {
+            let v = &v[..4];
+            unsafe { _mm256_loadu_pd(v.as_ptr()) }
+        }
+        #[inline(always)]
+        fn store(self, x: Self::F, out: &mut [f64]) {
+            let out = &mut out[..4];
+            unsafe { _mm256_storeu_pd(out.as_mut_ptr(), x) }
+        }
+        #[inline(always)]
+        fn add(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_add_pd(a, b) }
+        }
+        #[inline(always)]
+        fn sub(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_sub_pd(a, b) }
+        }
+        #[inline(always)]
+        fn mul(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_mul_pd(a, b) }
+        }
+        #[inline(always)]
+        fn div(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_div_pd(a, b) }
+        }
+        #[inline(always)]
+        fn sqrt(self, a: Self::F) -> Self::F {
+            unsafe { _mm256_sqrt_pd(a) }
+        }
+        #[inline(always)]
+        fn neg(self, a: Self::F) -> Self::F {
+            unsafe { _mm256_xor_pd(a, _mm256_set1_pd(-0.0)) }
+        }
+        #[inline(always)]
+        fn abs(self, a: Self::F) -> Self::F {
+            unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), a) }
+        }
+        #[inline(always)]
+        fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {
+            unsafe {
+                let s = _mm256_set1_pd(-0.0);
+                _mm256_or_pd(_mm256_andnot_pd(s, mag), _mm256_and_pd(s, sign))
+            }
+        }
+        #[inline(always)]
+        fn min(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_min_pd(a, b) }
+        }
+        #[inline(always)]
+        fn max(self, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_max_pd(a, b) }
+        }
+        #[inline(always)]
+        fn lt(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn le(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn eq(self, a: Self::F, b: Self::F) -> Self::M {
+            unsafe { _mm256_cmp_pd::<_CMP_EQ_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn and(self, a: Self::M, b: Self::M) -> Self::M {
+            unsafe { _mm256_and_pd(a, b) }
+        }
+        #[inline(always)]
+        fn or(self, a: Self::M, b: Self::M) -> Self::M {
+            unsafe { _mm256_or_pd(a, b) }
+        }
+        #[inline(always)]
+        fn andnot(self, a: Self::M, b: Self::M) -> Self::M {
+            unsafe { _mm256_andnot_pd(b, a) }
+        }
+        #[inline(always)]
+        fn select(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F {
+            unsafe { _mm256_blendv_pd(b, a, m) }
+        }
+        #[inline(always)]
+        fn bits(self, m: Self::M) -> u32 {
+            unsafe { _mm256_movemask_pd(m) as u32 }
+        }
+        #[inline(always)]
+        fn mask(self, b: u32) -> Self::M {
+            unsafe {
+                let lane = _mm256_setr_epi64x(1, 2, 4, 8);
+                let set = _mm256_and_si256(_mm256_set1_epi64x(i64::from(b)), lane);
+                _mm256_castsi256_pd(_mm256_cmpeq_epi64(set, lane))
+            }
+        }
+    }
+}

@@ -156,6 +156,10 @@ pub struct BenchArgs {
     /// Renders per scene; the median is reported.
     #[arg(long, default_value_t = 5)]
     pub repeat: usize,
+    /// Untimed renders per scene before the timed ones (the steady state
+    /// of a film: caches and light buffers made, every worker awake).
+    #[arg(long, default_value_t = 1)]
+    pub warmup: usize,
     #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]

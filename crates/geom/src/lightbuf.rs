@@ -726,6 +726,11 @@ impl<'a> Candidates<'a> {
         }
     }
 
+    /// Every zone listed: the large ones, then the cell's.
+    pub(crate) fn all(&self) -> impl Iterator<Item = u32> + 'a {
+        self.big.iter().copied().chain(self.cell())
+    }
+
     /// The cell's zones that may be met, in order: the loop that tests
     /// them stops at the first whose key is past the bound (no search for
     /// where they end first).
@@ -745,6 +750,8 @@ pub trait ShadowBuffer: sealed::Zones {}
 
 impl ShadowBuffer for LightBuffer {}
 impl ShadowBuffer for PointBuffer {}
+
+pub(crate) use sealed::Zones;
 
 /// What [`Prepared::occluded_by`] asks of a buffer, kept out of the public
 /// interface.
@@ -795,7 +802,7 @@ impl Prepared {
                 return true;
             }
         }
-        let all = (self.unbounded_opaque.iter().chain(zones.big).copied()).chain(zones.cell());
+        let all = self.unbounded_opaque.iter().copied().chain(zones.all());
         *last = self.any_opaque(all, skip, ray, tmin, tmax, s);
         last.is_some()
     }

@@ -21,6 +21,10 @@ pub struct Scratch {
     tmp: Vec<Span>,
     tagged: Vec<(u32, Span)>,
     stack: Stack,
+    /// Per zone, the packet of shadow rays that last tested it, so that a
+    /// packet tests each zone its rays' cells list once.
+    pub(crate) tested: Vec<u32>,
+    pub(crate) packet: u32,
 }
 
 impl Scratch {
@@ -34,6 +38,8 @@ impl Scratch {
             tmp: Vec::with_capacity(16),
             tagged: Vec::new(),
             stack: Stack::new(),
+            tested: vec![0; p.zones.len()],
+            packet: 0,
         }
     }
 

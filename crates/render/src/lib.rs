@@ -54,6 +54,12 @@ struct Workspace<'a> {
     normals: Vec<DVec3>,
     /// The zones the tile's shadow rays may meet.
     shadow: Occluders<'a>,
+    /// The shadow rays toward a parallel light to be tested in packets:
+    /// their origins and skipped zones, the hit each belongs to, and the
+    /// answers.
+    from: Vec<(DVec3, Option<u32>)>,
+    which: Vec<u32>,
+    answers: Vec<bool>,
 }
 
 impl<'a> Workspace<'a> {
@@ -70,7 +76,11 @@ impl<'a> Workspace<'a> {
                 buffers,
                 last: vec![None; lights],
                 sets: vec![None; lights],
+                blocked: vec![Vec::new(); lights],
             },
+            from: Vec::new(),
+            which: Vec::new(),
+            answers: Vec::new(),
         }
     }
 }
@@ -84,6 +94,10 @@ struct Occluders<'a> {
     /// Per light with a buffer, the zone that blocked the last shadow ray.
     last: Vec<Option<u32>>,
     sets: Vec<Option<Vec<u32>>>,
+    /// Per parallel light with a buffer, whether the shadow ray of each of
+    /// the tile's hits is blocked, tested for the whole tile beforehand
+    /// (empty when the light's rays are to be tested one by one).
+    blocked: Vec<Vec<bool>>,
 }
 
 /// Tiles are TILE×TILE pixels.
@@ -230,7 +244,7 @@ impl Renderer {
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
         let n = self.prepared.normal(hit, ray);
-        self.shade_with(ray, hit, n, shadows, &mut Occluders::default(), s)
+        self.shade_with(ray, hit, 0, n, shadows, &mut Occluders::default(), s)
     }
 
     /// The lights' buffers: those of the last render when its lights were
@@ -259,14 +273,57 @@ impl Renderer {
         buffers
     }
 
+    /// Test the shadow rays of the tile's `hits` toward each parallel light
+    /// with a buffer, in packets, into `occ.blocked` (a hit facing away
+    /// from the light has no shadow ray; its answer is never read).
+    #[allow(clippy::too_many_arguments)]
+    fn shadows_toward_suns(
+        &self,
+        hits: &[(u32, Hit)],
+        normals: &[DVec3],
+        rays: &[Ray],
+        occ: &mut Occluders<'_>,
+        from: &mut Vec<(DVec3, Option<u32>)>,
+        which: &mut Vec<u32>,
+        answers: &mut Vec<bool>,
+        s: &mut Scratch,
+    ) {
+        let eps = 10.0 * self.prepared.tolerance();
+        for (li, blocked) in occ.blocked.iter_mut().enumerate() {
+            blocked.clear();
+            let Some(Buffer::Parallel(lb)) = occ.buffers.get(li) else {
+                continue;
+            };
+            from.clear();
+            which.clear();
+            for (h, ((k, hit), n)) in hits.iter().zip(normals).enumerate() {
+                // As `shade_with`: no shadow ray where `cos θ <= 0` (a
+                // normal that is not a number does get one there).
+                let cos = n.dot(lb.toward());
+                if cos > 0.0 || cos.is_nan() {
+                    from.push((rays[*k as usize].at(hit.t), self.prepared.shadow_skip(hit)));
+                    which.push(h as u32);
+                }
+            }
+            self.prepared
+                .occluded_toward(lb, from, eps, &mut occ.last[li], s, answers);
+            blocked.resize(hits.len(), false);
+            for (&h, &a) in which.iter().zip(answers.iter()) {
+                blocked[h as usize] = a;
+            }
+        }
+    }
+
     /// [`Renderer::shade`], with the occluders that shadow rays may meet.
     /// Inlined into both pixel loops of the tile: called through a function
     /// it costs some scenes a few per cent.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn shade_with(
         &self,
         ray: &Ray,
         hit: &Hit,
+        h: usize,
         n: DVec3,
         shadows: bool,
         occ: &mut Occluders<'_>,
@@ -297,7 +354,9 @@ impl Renderer {
             }
             if shadows {
                 let skip = self.prepared.shadow_skip(hit);
-                let blocked = if let Some(Buffer::Parallel(lb)) = buffer {
+                let blocked = if let Some(&b) = occ.blocked.get(li).and_then(|b| b.get(h)) {
+                    b
+                } else if let Some(Buffer::Parallel(lb)) = buffer {
                     let shadow = lb.shadow_ray(p);
                     self.prepared
                         .occluded_by(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
@@ -481,6 +540,18 @@ impl Renderer {
                         hits.iter()
                             .map(|(k, h)| self.prepared.normal(h, &ws.rays[*k as usize])),
                     );
+                    if st.shadows && !hits.is_empty() {
+                        self.shadows_toward_suns(
+                            hits,
+                            &ws.normals,
+                            &ws.rays,
+                            &mut ws.shadow,
+                            &mut ws.from,
+                            &mut ws.which,
+                            &mut ws.answers,
+                            &mut ws.s,
+                        );
+                    }
                     if st.shadows && !hits.is_empty() && point_lights {
                         let from = Aabb::from_points(
                             hits.iter().map(|(k, h)| ws.rays[*k as usize].at(h.t)),
@@ -513,12 +584,13 @@ impl Renderer {
                             rgb[row..row + tw].copy_from_slice(&bg_row[..tw]);
                             alpha[row..row + tw].fill(0.0);
                         }
-                        for ((k, hit), &normal) in hits.iter().zip(&ws.normals) {
+                        for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
                             let k = *k as usize;
                             let i = k / tw * w + x0 + k % tw;
                             let c = self.shade_with(
                                 &ws.rays[k],
                                 hit,
+                                h,
                                 normal,
                                 st.shadows,
                                 &mut ws.shadow,
@@ -552,6 +624,7 @@ impl Renderer {
                                         self.shade_with(
                                             &ws.rays[k as usize],
                                             hit,
+                                            next - 1,
                                             ws.normals[next - 1],
                                             st.shadows,
                                             &mut ws.shadow,

@@ -503,12 +503,34 @@ impl Prepared {
             // the frustum can pass a box's corner and miss the ball inside,
             // or a rotor blade set at an angle across its box. Only the
             // zones left count toward `max`.
-            |zi| match self.tighter(zi) {
-                Tighter::Box => true,
-                Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
-                Tighter::Points(pts) => f.may_meet_points(pts),
-            },
+            |zi| self.tighter_meets(zi, f),
         )
+    }
+
+    /// True when [`Prepared::frustum_zones`] would list bounded zone `zi`
+    /// for frustum `f`: its box, then its ball or hull points, may meet it.
+    pub fn frustum_keeps(&self, zi: u32, f: &Frustum) -> bool {
+        f.may_meet(&self.zones[zi as usize].bounds) && self.tighter_meets(zi, f)
+    }
+
+    /// The test of a zone's ball or hull points against a frustum.
+    fn tighter_meets(&self, zi: u32, f: &Frustum) -> bool {
+        match self.tighter(zi) {
+            Tighter::Box => true,
+            Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
+            Tighter::Points(pts) => f.may_meet_points(pts),
+        }
+    }
+
+    /// How many zones, unbounded, lead every list of
+    /// [`Prepared::frustum_zones`] (they are listed without a test).
+    pub fn unbounded_opaque_zones(&self) -> usize {
+        self.unbounded_opaque.len()
+    }
+
+    /// The bounds of zone `zi` (padded by the tolerance).
+    pub fn zone_bounds(&self, zi: u32) -> Aabb {
+        self.zones[zi as usize].bounds
     }
 
     /// The opaque zones whose bounds pass `meets` and that then pass `keep`

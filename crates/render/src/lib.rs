@@ -40,6 +40,8 @@ struct Workspace<'a> {
     s: Scratch,
     /// The tile's candidate zones.
     cands: Vec<u32>,
+    /// The zones of the band's tiles.
+    lists: BandLists,
     /// The same with a lower bound of their entry distance, sorted.
     sorted: Vec<(f64, u32)>,
     /// The raster positions of the tile's primary rays, and the rays.
@@ -67,6 +69,7 @@ impl<'a> Workspace<'a> {
         Workspace {
             s: Scratch::new(p),
             cands: Vec::new(),
+            lists: BandLists::default(),
             sorted: Vec::new(),
             pts: Vec::new(),
             rays: Vec::new(),
@@ -83,6 +86,21 @@ impl<'a> Workspace<'a> {
             answers: Vec::new(),
         }
     }
+}
+
+/// The zones each tile of a band (a row of tiles) may meet, in the order of
+/// the hierarchy: those [`Prepared::frustum_zones`] lists for the tile that
+/// the band's frustum does not rule out.
+#[derive(Default)]
+struct BandLists {
+    /// The band's zones.
+    band: Vec<u32>,
+    /// Per tile, its frustum, its zones, and whether it has more than
+    /// [`MAX_TILE_ZONES`] (its list is then incomplete, and its rays walk
+    /// the hierarchy).
+    frusta: Vec<Frustum>,
+    tiles: Vec<Vec<u32>>,
+    over: Vec<bool>,
 }
 
 /// Where shadow rays look for occluders, per light: a parallel light's
@@ -112,7 +130,7 @@ const TILE: usize = 16;
 /// 14 % and 2048 65 %).
 const MAX_TILE_ZONES: usize = 256;
 use sv_math::{Aabb, DVec3, Ray};
-use sv_scene::{Background, Camera, Light, LightKind, Scene};
+use sv_scene::{Background, Camera, Light, LightKind, RayGen, Scene};
 
 /// Picture settings.
 #[derive(Clone, Debug)]
@@ -271,6 +289,47 @@ impl Renderer {
             buffers: buffers.clone(),
         });
         buffers
+    }
+
+    /// The zones of the tiles of the band of raster rows `y0..y1`: the
+    /// band's, from one walk of the hierarchy, each then tested against the
+    /// frusta of the tiles its box spans on the raster. Each tile gets what
+    /// [`Prepared::frustum_zones`] would give it, by the same test, less
+    /// the zones the band's frustum rules out (its test of a box, plane by
+    /// plane, keeps some boxes that a narrow tile's frustum misses; both
+    /// keep every zone a ray may meet). A walk per tile took a fifth of the
+    /// time of a frame of 10,000 spheres.
+    fn band_lists(&self, gen: &RayGen, w: usize, y0: usize, y1: usize, l: &mut BandLists) {
+        let p = &self.prepared;
+        let ray = |x: usize, y: usize| gen.ray(x as f64, y as f64);
+        let frustum = |x0: usize, x1: usize| {
+            Frustum::from_corners([ray(x0, y0), ray(x1, y0), ray(x1, y1), ray(x0, y1)])
+        };
+        p.frustum_zones(&frustum(0, w), usize::MAX, &mut l.band);
+        let n = w.div_ceil(TILE);
+        l.frusta.clear();
+        l.frusta
+            .extend((0..n).map(|t| frustum(t * TILE, ((t + 1) * TILE).min(w))));
+        l.tiles.resize_with(n, Vec::new);
+        l.tiles.iter_mut().for_each(Vec::clear);
+        l.over.clear();
+        l.over.resize(n, false);
+        let lead = p.unbounded_opaque_zones();
+        for (i, &zi) in l.band.iter().enumerate() {
+            // Unbounded zones lead every list, untested.
+            let (first, last) = if i < lead {
+                (0, n - 1)
+            } else {
+                tile_span(&p.zone_bounds(zi), gen, n)
+            };
+            for t in first..=last {
+                if l.over[t] || !(i < lead || p.frustum_keeps(zi, &l.frusta[t])) {
+                    continue;
+                }
+                l.tiles[t].push(zi);
+                l.over[t] = l.tiles[t].len() > MAX_TILE_ZONES;
+            }
+        }
     }
 
     /// Test the shadow rays of the tile's `hits` toward each parallel light
@@ -467,25 +526,22 @@ impl Renderer {
                 let ws = guard.get_or_insert_with(make);
                 let y0 = band * TILE;
                 let rows = rgb.len() / w;
-                for x0 in (0..w).step_by(TILE) {
+                // Zones that any ray of each tile may meet, each with a lower
+                // bound of where the rays can enter it: a ray stops at the
+                // first zone that cannot come nearer than its best hit. The
+                // answer is that of a full search.
+                self.band_lists(&gen, w, y0, y0 + rows, &mut ws.lists);
+                for (tile, x0) in (0..w).step_by(TILE).enumerate() {
                     let x1 = (x0 + TILE).min(w);
-                    // Zones that any ray of this tile may meet, each with a
-                    // lower bound of where the rays can enter it: a ray
-                    // stops at the first zone that cannot come nearer than
-                    // its best hit. The answer is that of a full search.
-                    let corners = [(x0, y0), (x1, y0), (x1, y0 + rows), (x0, y0 + rows)]
-                        .map(|(x, y)| gen.ray(x as f64, y as f64));
-                    let few = self.prepared.frustum_zones(
-                        &Frustum::from_corners(corners),
-                        MAX_TILE_ZONES,
-                        &mut ws.cands,
-                    );
+                    let few = !ws.lists.over[tile];
+                    std::mem::swap(&mut ws.cands, &mut ws.lists.tiles[tile]);
                     self.prepared
                         .by_distance(&ws.cands, self.camera.eye, parallel, &mut ws.sorted);
+                    std::mem::swap(&mut ws.cands, &mut ws.lists.tiles[tile]);
                     // Primary rays of the whole tile first (none when no
                     // zone meets the tile: it is all background).
                     let mut found = 0;
-                    if !(few && ws.cands.is_empty()) {
+                    if !(few && ws.sorted.is_empty()) {
                         ws.pts.clear();
                         for yy in 0..rows {
                             for x in x0..x1 {
@@ -680,9 +736,157 @@ impl Renderer {
     }
 }
 
+/// The columns of tiles (inclusive) where a box may be seen: those of the
+/// raster columns of its corners, a pixel wider either side for rounding;
+/// every column when a corner is not in front of the eye.
+fn tile_span(b: &Aabb, gen: &RayGen, n: usize) -> (usize, usize) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..8 {
+        let c = DVec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        );
+        match gen.raster_x(c) {
+            Some(x) if x.is_finite() => {
+                lo = lo.min(x);
+                hi = hi.max(x);
+            }
+            _ => return (0, n - 1),
+        }
+    }
+    let tile = |x: f64| ((x / TILE as f64).floor().max(0.0) as usize).min(n - 1);
+    (tile(lo - 1.0), tile(hi + 1.0))
+}
+
 /// A unit vector from azimuth and elevation in degrees (BRL-CAD's
 /// convention: azimuth from +x toward +y, elevation above the xy plane).
 pub fn az_el(az: f64, el: f64) -> DVec3 {
     let (a, e) = (az.to_radians(), el.to_radians());
     DVec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sv_geom::{Body, BodyKind, Region};
+    use sv_scene::{Lens, RegionProps};
+
+    /// A crowd of spheres and turned boxes about the origin, over a ground
+    /// half-space, each its own region.
+    fn crowd() -> Scene {
+        let mut s = Scene::default();
+        let mut seed = 3u64;
+        let mut rnd = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for i in 0..600 {
+            let c = [rnd() * 10.0, rnd() * 10.0, rnd() * 10.0];
+            let body = if i % 3 == 0 {
+                let (a, b) = (rnd(), rnd());
+                Body::new(
+                    format!("b{i}"),
+                    BodyKind::Box,
+                    vec![c[0], c[1], c[2], a, b, 0.0, -b, a, 0.0, 0.0, 0.0, 0.8],
+                )
+            } else {
+                Body::new(format!("b{i}"), BodyKind::Sph, vec![c[0], c[1], c[2], 0.4])
+            };
+            s.geometry.bodies.push(body);
+            s.geometry.regions.push(Region::of_body(format!("r{i}"), i));
+        }
+        // A rod passing beside the first camera's eye, partly behind it.
+        let n = s.geometry.bodies.len();
+        s.geometry.bodies.push(Body::new(
+            "rod",
+            BodyKind::Rpp,
+            vec![-10.0, 10.0, 0.5, 0.7, -0.2, 0.2],
+        ));
+        s.geometry.regions.push(Region::of_body("rod", n));
+        s.geometry.bodies.push(Body::new(
+            "ground",
+            BodyKind::Haf,
+            vec![0.0, 0.0, 1.0, -11.0],
+        ));
+        s.geometry.regions.push(Region::of_body("ground", n + 1));
+        s.regions = vec![RegionProps::default(); n + 2];
+        s
+    }
+
+    #[test]
+    fn band_lists_give_each_tile_the_zones_of_its_own_frustum_that_the_band_keeps() {
+        let scene = crowd();
+        let (r, _) = Renderer::new(&scene, 4.0 / 3.0).unwrap();
+        // From inside the crowd (zones straddle the eye's plane), from
+        // outside, from far off (the crowd in a few tiles, too many for
+        // their lists), and orthographic.
+        let cameras = [
+            Camera::looking_at(
+                DVec3::new(300.0, -250.0, 120.0),
+                DVec3::ZERO,
+                DVec3::Z,
+                Lens::Fov { vertical_deg: 40.0 },
+            ),
+            Camera::looking_at(
+                DVec3::ZERO,
+                DVec3::new(1.0, 2.0, 0.3),
+                DVec3::Z,
+                Lens::Fov { vertical_deg: 70.0 },
+            ),
+            Camera::looking_at(
+                DVec3::new(30.0, -25.0, 12.0),
+                DVec3::ZERO,
+                DVec3::Z,
+                Lens::Fov { vertical_deg: 40.0 },
+            ),
+            Camera::looking_at(
+                DVec3::new(5.0, 30.0, 8.0),
+                DVec3::ZERO,
+                DVec3::Z,
+                Lens::Ortho { height: 16.0 },
+            ),
+        ];
+        let (w, h) = (320, 240);
+        let (mut lists, mut own) = (BandLists::default(), Vec::new());
+        let (mut compared, mut overflowing, mut dropped) = (0, 0, 0);
+        for cam in cameras {
+            let gen = cam.rays(w as u32, h as u32);
+            for y0 in (0..h).step_by(TILE) {
+                let y1 = (y0 + TILE).min(h);
+                r.band_lists(&gen, w, y0, y1, &mut lists);
+                for (t, x0) in (0..w).step_by(TILE).enumerate() {
+                    let x1 = (x0 + TILE).min(w);
+                    let corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+                        .map(|(x, y)| gen.ray(x as f64, y as f64));
+                    let few = r.prepared.frustum_zones(
+                        &Frustum::from_corners(corners),
+                        MAX_TILE_ZONES,
+                        &mut own,
+                    );
+                    if !few {
+                        overflowing += 1;
+                        continue;
+                    }
+                    // The tile's own list, less the zones that the band's
+                    // frustum rules out (the test of a box plane by plane
+                    // keeps some that a narrow frustum misses), in order.
+                    let kept: Vec<u32> = own
+                        .iter()
+                        .copied()
+                        .filter(|z| lists.band.contains(z))
+                        .collect();
+                    assert!(!lists.over[t], "tile {t} of band {y0}");
+                    assert_eq!(lists.tiles[t], kept, "tile {t} of band {y0}");
+                    compared += kept.len();
+                    dropped += own.len() - kept.len();
+                }
+            }
+        }
+        assert!(compared > 3000, "{compared} zones listed");
+        assert!(dropped > 0, "the band ruled nothing out");
+        assert!(overflowing > 0, "no tile overflows");
+    }
 }

@@ -137,6 +137,22 @@ impl RayGen {
         }
     }
 
+    /// The raster column (`x`, in pixels from the left edge) where point
+    /// `p` is seen, or `None` for a point not in front of a perspective
+    /// camera. The inverse of [`RayGen::ray`] up to rounding.
+    pub fn raster_x(&self, p: DVec3) -> Option<f64> {
+        let q = p - self.eye;
+        let mut sx = q.dot(self.right) / self.right.length_squared();
+        if !self.ortho {
+            let z = q.dot(self.forward);
+            if z <= 0.0 || z.is_nan() {
+                return None;
+            }
+            sx /= z;
+        }
+        Some((sx + 1.0) / (2.0 * self.inv_w))
+    }
+
     /// The rays through many raster positions, appended to `out`: exactly
     /// what [`RayGen::ray`] makes for each, but made eight at a time so
     /// that the square roots and divisions of perspective rays run as
@@ -201,6 +217,33 @@ mod tests {
             g.rays(&pts, &mut got);
             let want: Vec<Ray> = pts.iter().map(|&[x, y]| g.ray(x, y)).collect();
             assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn a_point_on_the_ray_through_a_column_is_seen_in_that_column() {
+        for lens in [
+            Lens::Fov { vertical_deg: 37.0 },
+            Lens::Ortho { height: 3.0 },
+        ] {
+            let cam = Camera::looking_at(
+                DVec3::new(-3.0, 7.0, 2.5),
+                DVec3::new(0.3, -0.2, 0.1),
+                DVec3::Z,
+                lens,
+            );
+            let g = cam.rays(640, 480);
+            for i in 0..50 {
+                let (x, y) = (i as f64 * 13.7 - 20.0, 479.0 - i as f64 * 9.3);
+                let r = g.ray(x, y);
+                for t in [0.5, 3.0, 40.0] {
+                    let got = g.raster_x(r.at(t)).expect("in front of the eye");
+                    assert!((got - x).abs() < 1e-6, "{lens:?}: {got} for {x}");
+                }
+                if matches!(lens, Lens::Fov { .. }) {
+                    assert_eq!(g.raster_x(r.at(-1.0)), None);
+                }
+            }
         }
     }
 

@@ -27,17 +27,17 @@ pub(crate) struct Node {
 pub(crate) struct Bvh {
     pub nodes: Vec<Node>,
     pub items: Vec<u32>,
-    wide: Vec<WideNode>,
+    pub wide: Vec<WideNode>,
 }
 
 /// Up to four children: their boxes one coordinate array at a time, and
 /// for each a [`Child`] code.
 #[derive(Clone, Copy, Debug)]
 #[repr(align(64))]
-struct WideNode {
-    lo: [[f64; 4]; 3],
-    hi: [[f64; 4]; 3],
-    child: [Child; 4],
+pub(crate) struct WideNode {
+    pub lo: [[f64; 4]; 3],
+    pub hi: [[f64; 4]; 3],
+    pub child: [Child; 4],
 }
 
 impl WideNode {
@@ -61,11 +61,11 @@ pub(crate) enum Child {
 }
 
 /// Children per wide node.
-const WIDTH: usize = 4;
+pub(crate) const WIDTH: usize = 4;
 
 /// Entries of a walk's stack: three per level of the wide tree, far more
 /// than any tree built here needs.
-const STACK: usize = 96;
+pub(crate) const STACK: usize = 96;
 
 /// A walk's stack, kept by the caller from ray to ray: set up anew for
 /// every ray, it cost a tenth of the walk.

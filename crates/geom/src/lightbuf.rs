@@ -300,9 +300,9 @@ fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
     let hull = match p.tighter(zi) {
         Tighter::Box => return None,
         // A sphere's shadow is a disc: the regular octagon around it.
-        Tighter::Ball(sp) => {
-            let (cu, cv) = (sp.c.dot(u), sp.c.dot(v));
-            let r = sp.r / (std::f64::consts::PI / 8.0).cos();
+        Tighter::Ball(c, r) => {
+            let (cu, cv) = (c.dot(u), c.dot(v));
+            let r = r / (std::f64::consts::PI / 8.0).cos();
             (0..8)
                 .map(|k| {
                     let a = (2 * k + 1) as f64 * std::f64::consts::PI / 8.0;

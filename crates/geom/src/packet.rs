@@ -16,11 +16,13 @@
 //! (tested against [`Prepared::first_hit_in`] for every lane width).
 
 use crate::boolean::Bound;
+use crate::bvh::{Child, WideNode, STACK, WIDTH};
 use crate::lightbuf::{LightBuffer, Zones};
 use crate::prepare::{PZone, Prepared};
 use crate::shape::Shape;
 use crate::simd::Simd;
 use crate::trace::{Hit, Scratch};
+use std::mem::MaybeUninit;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// The widest packet of any instruction set.
@@ -61,6 +63,78 @@ struct End<S: Simd> {
 struct SpanLanes<S: Simd> {
     a: End<S>,
     b: End<S>,
+}
+
+/// Each lane's best hit so far, as [`Prepared::consider`] keeps it for one
+/// ray: the lowest entry (ties to the lower region), and the limit past
+/// which no zone can do better.
+struct Best<S: Simd> {
+    tmin: S::F,
+    limit: S::F,
+    t: S::F,
+    region: S::F,
+    zone: S::F,
+    inside: S::M,
+    /// The surface entered.
+    a: End<S>,
+}
+
+impl<S: Simd> Best<S> {
+    #[inline(always)]
+    fn new(s: S, tmin: f64, tmax: f64) -> Best<S> {
+        let none = s.splat(f64::from(u32::MAX));
+        Best {
+            tmin: s.splat(tmin),
+            limit: s.splat(tmax),
+            t: s.splat(f64::INFINITY),
+            region: none,
+            zone: none,
+            inside: s.none(),
+            a: End {
+                t: s.splat(f64::INFINITY),
+                body: none,
+                face: s.splat(0.0),
+            },
+        }
+    }
+
+    /// Write the lanes' hits to the first places of `out` in lane order,
+    /// with their ray's index (`first` plus the lane); the number of hits.
+    #[inline(always)]
+    fn emit(&self, s: S, out: &mut [(u32, Hit)], first: u32) -> usize {
+        let hit = s.bits(s.lt(self.region, s.splat(f64::from(u32::MAX))));
+        if hit == 0 {
+            return 0;
+        }
+        let (t, region, zone) = (
+            Spill::of(s, self.t),
+            Spill::of(s, self.region),
+            Spill::of(s, self.zone),
+        );
+        let (at, body, face) = (
+            Spill::of(s, self.a.t),
+            Spill::of(s, self.a.body),
+            Spill::of(s, self.a.face),
+        );
+        let inside = s.bits(self.inside);
+        let mut n = 0;
+        for j in 0..S::LANES {
+            if hit & (1 << j) != 0 {
+                // Written in place, field by field (see `first_hit_in`).
+                let slot = &mut out[n];
+                slot.0 = first + j as u32;
+                slot.1 = Hit {
+                    t: t.0[j],
+                    region: region.0[j] as u32,
+                    bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
+                    inside: inside & (1 << j) != 0,
+                    zone: zone.0[j] as u32,
+                };
+                n += 1;
+            }
+        }
+        n
+    }
 }
 
 /// The flip bit of a [`Bound`], as added to a face held in `f64`.
@@ -141,6 +215,54 @@ pub(crate) fn splat3<S: Simd>(s: S, v: DVec3) -> [S::F; 3] {
 #[inline(always)]
 pub(crate) fn not<S: Simd>(s: S, m: S::M) -> S::M {
     s.andnot(s.mask(u32::MAX), m)
+}
+
+/// A packet of rays in lanes. A short packet repeats its last ray in the
+/// lanes left.
+#[inline(always)]
+fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
+    if rays.len() < S::LANES {
+        let mut full = [rays[rays.len() - 1]; MAX_LANES];
+        full[..rays.len()].copy_from_slice(rays);
+        return gather_lanes(s, Ray::coordinates(&full[..S::LANES]));
+    }
+    gather_lanes(s, Ray::coordinates(&rays[..S::LANES]))
+}
+
+/// The rays of [`Ray::coordinates`] `v` in lanes, each coordinate read
+/// across the rays at once. (Written lane by lane into arrays first, they
+/// were loaded back whole before the writes could be forwarded, which
+/// stalled every packet.)
+#[inline(always)]
+fn gather_lanes<S: Simd>(s: S, v: &[f64]) -> Lanes<S> {
+    Lanes {
+        o: [s.gather(v, 0, 9), s.gather(v, 1, 9), s.gather(v, 2, 9)],
+        d: [s.gather(v, 3, 9), s.gather(v, 4, 9), s.gather(v, 5, 9)],
+        inv: [s.gather(v, 6, 9), s.gather(v, 7, 9), s.gather(v, 8, 9)],
+    }
+}
+
+/// The entry of each lane's ray into child `k` of wide node `n`, and the
+/// lanes that meet it within `[tmin, tmax]`: [`crate::bvh`]'s slab test of
+/// a wide node's child.
+#[inline(always)]
+fn child_lanes<S: Simd>(
+    s: S,
+    n: &WideNode,
+    k: usize,
+    r: &Lanes<S>,
+    tmin: S::F,
+    tmax: S::F,
+) -> (S::F, S::M) {
+    let mut t0 = tmin;
+    let mut t1 = tmax;
+    for a in 0..3 {
+        let x0 = s.mul(s.sub(s.splat(n.lo[a][k]), r.o[a]), r.inv[a]);
+        let x1 = s.mul(s.sub(s.splat(n.hi[a][k]), r.o[a]), r.inv[a]);
+        t0 = s.max(s.min(x0, x1), t0);
+        t1 = s.min(s.max(x0, x1), t1);
+    }
+    (t0, s.le(t0, t1))
 }
 
 /// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
@@ -280,21 +402,7 @@ impl Prepared {
     ) -> usize {
         let mut found = 0;
         for (p, chunk) in rays.chunks(S::LANES).enumerate() {
-            // A short last packet repeats its last ray in the lanes left.
-            let mut v = [[0.0; MAX_LANES]; 9];
-            for j in 0..S::LANES {
-                let r = &chunk[j.min(chunk.len() - 1)];
-                for a in 0..3 {
-                    v[a][j] = r.origin[a];
-                    v[3 + a][j] = r.dir[a];
-                    v[6 + a][j] = r.inv_dir[a];
-                }
-            }
-            let lanes = Lanes::<S> {
-                o: [s.load(&v[0]), s.load(&v[1]), s.load(&v[2])],
-                d: [s.load(&v[3]), s.load(&v[4]), s.load(&v[5])],
-                inv: [s.load(&v[6]), s.load(&v[7]), s.load(&v[8])],
-            };
+            let lanes = lanes_of(s, chunk);
             let active = (1u32 << chunk.len()) - 1;
             let (base, at) = (p * S::LANES, found);
             found += self.packet_first_hits(
@@ -332,110 +440,245 @@ impl Prepared {
         out: &mut [(u32, Hit)],
         first: u32,
     ) -> usize {
-        let tmin_l = s.splat(tmin);
-        let mut limit = s.splat(tmax);
-        let mut best_t = s.splat(f64::INFINITY);
-        let mut best_region = s.splat(f64::from(u32::MAX));
-        let mut best_zone = s.splat(f64::from(u32::MAX));
-        let mut best_inside = s.none();
-        let mut best_a = End::<S> {
-            t: best_t,
-            body: best_zone,
-            face: s.splat(0.0),
-        };
+        let mut b = Best::new(s, tmin, tmax);
         let mut alive = s.mask(active);
         for &(near, zi) in zones {
             // A lane stops at the first zone that cannot come nearer than
             // its best hit, as the ray alone would.
-            alive = s.andnot(alive, s.gt(s.splat(near), limit));
+            alive = s.andnot(alive, s.gt(s.splat(near), b.limit));
             if !s.any(alive) {
                 break;
             }
-            let z = &self.zones[zi as usize];
-            let m = s.and(alive, box_lanes(s, &z.bounds, r, tmin_l, limit));
+            self.consider_lanes(s, zi, r, rays, alive, &mut b, sc);
+        }
+        b.emit(s, out, first)
+    }
+
+    /// [`Prepared::first_hit`] for each of `rays`, several rays at once
+    /// where the processor has vector instructions for it: a packet walks
+    /// the hierarchy together, each lane into the boxes its ray meets
+    /// before its best hit. Output as [`Prepared::first_hits_in`].
+    pub fn first_hits(
+        &self,
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<(u32, Hit)>,
+    ) -> usize {
+        if out.len() < rays.len() {
+            out.resize(rays.len(), (0, Hit::NONE));
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.packets {
+            use crate::simd::{Avx2, Avx512};
+            if let Some(t) = Avx512::detect() {
+                // SAFETY: the token proves the processor has AVX-512F.
+                return unsafe { walk_avx512(self, t, rays, tmin, tmax, s, out) };
+            }
+            if let Some(t) = Avx2::detect() {
+                // SAFETY: the token proves the processor has AVX2.
+                return unsafe { walk_avx2(self, t, rays, tmin, tmax, s, out) };
+            }
+        }
+        self.walk_one_by_one(rays, tmin, tmax, s, out)
+    }
+
+    /// [`Prepared::first_hits`] ray by ray.
+    pub(crate) fn walk_one_by_one(
+        &self,
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [(u32, Hit)],
+    ) -> usize {
+        let mut found = 0;
+        for (k, ray) in rays.iter().enumerate() {
+            if let Some(h) = self.first_hit(ray, tmin, tmax, s) {
+                out[found] = (k as u32, h);
+                found += 1;
+            }
+        }
+        found
+    }
+
+    /// [`Prepared::first_hits`] in packets of `S::LANES` rays.
+    #[inline(always)]
+    pub(crate) fn walk_in_packets<S: Simd>(
+        &self,
+        s: S,
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+        out: &mut [(u32, Hit)],
+    ) -> usize {
+        let mut found = 0;
+        for (p, chunk) in rays.chunks(S::LANES).enumerate() {
+            let lanes = lanes_of(s, chunk);
+            let active = (1u32 << chunk.len()) - 1;
+            let first = (p * S::LANES) as u32;
+            found += match self.packet_walk(s, &lanes, chunk, active, tmin, tmax, sc) {
+                Some(b) => b.emit(s, &mut out[found..], first),
+                // A tree deeper than the stack: ray by ray.
+                None => {
+                    let n = self.walk_one_by_one(chunk, tmin, tmax, sc, &mut out[found..]);
+                    out[found..found + n].iter_mut().for_each(|h| h.0 += first);
+                    n
+                }
+            };
+        }
+        found
+    }
+
+    /// The best hits of one packet's rays (the lanes of `active`): the
+    /// unbounded zones, then the hierarchy's, walked together, nearer boxes
+    /// first; `None` for a tree deeper than the walk's stack.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn packet_walk<S: Simd>(
+        &self,
+        s: S,
+        r: &Lanes<S>,
+        rays: &[Ray],
+        active: u32,
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+    ) -> Option<Best<S>> {
+        let mut b = Best::new(s, tmin, tmax);
+        let act = s.mask(active);
+        for &zi in &self.unbounded_opaque {
+            self.consider_lanes(s, zi, r, rays, act, &mut b, sc);
+        }
+        let bvh = &self.bvh_opaque;
+        if bvh.wide.is_empty() {
+            return Some(b);
+        }
+        // Entries to visit, with each lane's entry into their box: not a
+        // number for a lane that misses it, which no limit lets through
+        // (infinity would pass an infinite limit).
+        let (miss, inf) = (s.splat(f64::NAN), s.splat(f64::INFINITY));
+        // Not filled beforehand: a packet of a crowded tile would spend a
+        // tenth of its walk on it. Only the entries below `sp` are read.
+        let mut stack = [const { MaybeUninit::<(Child, S::F)>::uninit() }; STACK];
+        stack[0].write((Child::Node(0), s.select(act, b.tmin, miss)));
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            // SAFETY: every entry below `sp` was written before `sp` passed
+            // it.
+            let (c, near) = unsafe { stack[sp].assume_init() };
+            let m = s.le(near, b.limit);
             if !s.any(m) {
                 continue;
             }
-            let (mut sp, mut valid, scalar) = if z.lanes {
-                self.zone_lanes(s, z, r, m, tmin_l, limit)
-            } else {
-                let z0 = End {
-                    t: tmin_l,
-                    body: tmin_l,
-                    face: tmin_l,
-                };
-                (SpanLanes { a: z0, b: z0 }, s.none(), m)
+            match c {
+                Child::Leaf { first, count } => {
+                    for &zi in &bvh.items[first as usize..(first + count) as usize] {
+                        self.consider_lanes(s, zi, r, rays, m, &mut b, sc);
+                    }
+                }
+                Child::Node(i) => {
+                    let n = &bvh.wide[i as usize];
+                    // The children met, pushed farthest first (by the
+                    // nearest entry of any lane).
+                    let mut order = [(0.0f64, 0usize, miss); WIDTH];
+                    let mut k_met = 0;
+                    for k in 0..WIDTH {
+                        if n.child[k] == Child::None {
+                            continue;
+                        }
+                        let (t0, hit) = child_lanes(s, n, k, r, b.tmin, b.limit);
+                        let hit = s.and(hit, m);
+                        if !s.any(hit) {
+                            continue;
+                        }
+                        let first = s.min_lane(s.select(hit, t0, inf));
+                        let t0 = s.select(hit, t0, miss);
+                        let mut j = k_met;
+                        while j > 0 && order[j - 1].0 < first {
+                            order[j] = order[j - 1];
+                            j -= 1;
+                        }
+                        order[j] = (first, k, t0);
+                        k_met += 1;
+                    }
+                    if sp + k_met > STACK {
+                        return None;
+                    }
+                    for &(_, k, t0) in &order[..k_met] {
+                        stack[sp].write((n.child[k], t0));
+                        sp += 1;
+                    }
+                }
+                Child::None => {}
+            }
+        }
+        Some(b)
+    }
+
+    /// [`Prepared::consider`] of zone `zi` for the lanes of `m`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn consider_lanes<S: Simd>(
+        &self,
+        s: S,
+        zi: u32,
+        r: &Lanes<S>,
+        rays: &[Ray],
+        m: S::M,
+        b: &mut Best<S>,
+        sc: &mut Scratch,
+    ) {
+        let z = &self.zones[zi as usize];
+        let m = s.and(m, box_lanes(s, &z.bounds, r, b.tmin, b.limit));
+        if !s.any(m) {
+            return;
+        }
+        let (mut sp, mut valid, scalar) = if z.lanes {
+            self.zone_lanes(s, z, r, m, b.tmin, b.limit)
+        } else {
+            let z0 = End {
+                t: b.tmin,
+                body: b.tmin,
+                face: b.tmin,
             };
-            let left = s.bits(scalar);
-            if left != 0 {
-                (sp.a, valid) =
-                    self.spans_one_by_one(s, z, rays, left, limit, tmin, sc, sp.a, valid);
-            }
-            if !s.any(valid) {
-                continue;
-            }
-            // The best so far: the lowest entry, ties to the lower region.
-            let inside = s.andnot(valid, s.gt(sp.a.t, tmin_l));
-            let t = s.select(inside, tmin_l, sp.a.t);
-            let region = s.splat(f64::from(z.region));
-            let better = s.and(
-                valid,
-                s.or(
-                    s.lt(t, best_t),
-                    s.and(s.eq(t, best_t), s.lt(region, best_region)),
-                ),
-            );
-            if !s.any(better) {
-                continue;
-            }
-            best_t = s.select(better, t, best_t);
-            best_region = s.select(better, region, best_region);
-            best_zone = s.select(better, s.splat(f64::from(zi)), best_zone);
-            best_inside = s.or(s.and(better, inside), s.andnot(best_inside, better));
-            best_a = End {
-                t: s.select(better, sp.a.t, best_a.t),
-                body: s.select(better, sp.a.body, best_a.body),
-                face: s.select(better, sp.a.face, best_a.face),
-            };
-            // Keep equal-t candidates reachable for the tie rule.
-            let slack = s.min(
-                s.add(s.mul(s.abs(t), s.splat(1e-15)), s.splat(f64::MIN_POSITIVE)),
-                s.splat(self.tol),
-            );
-            limit = s.select(better, s.add(t, slack), limit);
+            (SpanLanes { a: z0, b: z0 }, s.none(), m)
+        };
+        let left = s.bits(scalar);
+        if left != 0 {
+            let tmin = Spill::of(s, b.tmin).0[0];
+            (sp.a, valid) = self.spans_one_by_one(s, z, rays, left, b.limit, tmin, sc, sp.a, valid);
         }
-        let hit = s.bits(s.lt(best_region, s.splat(f64::from(u32::MAX))));
-        if hit == 0 {
-            return 0;
+        if !s.any(valid) {
+            return;
         }
-        let (t, region, zone) = (
-            Spill::of(s, best_t),
-            Spill::of(s, best_region),
-            Spill::of(s, best_zone),
+        // The best so far: the lowest entry, ties to the lower region, then
+        // to the lower zone.
+        let inside = s.andnot(valid, s.gt(sp.a.t, b.tmin));
+        let t = s.select(inside, b.tmin, sp.a.t);
+        let (region, zone) = (s.splat(f64::from(z.region)), s.splat(f64::from(zi)));
+        let lower = s.or(
+            s.lt(region, b.region),
+            s.and(s.eq(region, b.region), s.lt(zone, b.zone)),
         );
-        let (at, body, face) = (
-            Spill::of(s, best_a.t),
-            Spill::of(s, best_a.body),
-            Spill::of(s, best_a.face),
-        );
-        let inside = s.bits(best_inside);
-        let mut n = 0;
-        for j in 0..S::LANES {
-            if hit & (1 << j) != 0 {
-                // Written in place, field by field (see `first_hit_in`).
-                let slot = &mut out[n];
-                slot.0 = first + j as u32;
-                slot.1 = Hit {
-                    t: t.0[j],
-                    region: region.0[j] as u32,
-                    bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
-                    inside: inside & (1 << j) != 0,
-                    zone: zone.0[j] as u32,
-                };
-                n += 1;
-            }
+        let better = s.and(valid, s.or(s.lt(t, b.t), s.and(s.eq(t, b.t), lower)));
+        if !s.any(better) {
+            return;
         }
-        n
+        b.t = s.select(better, t, b.t);
+        b.region = s.select(better, region, b.region);
+        b.zone = s.select(better, zone, b.zone);
+        b.inside = s.or(s.and(better, inside), s.andnot(b.inside, better));
+        b.a = pick(s, better, sp.a, b.a);
+        // Keep equal-t candidates reachable for the tie rule.
+        let slack = s.min(
+            s.add(s.mul(s.abs(t), s.splat(1e-15)), s.splat(f64::MIN_POSITIVE)),
+            s.splat(self.tol),
+        );
+        b.limit = s.select(better, s.add(t, slack), b.limit);
     }
 
     /// The zone's first span (entry) for the lanes in `lanes` by the
@@ -894,6 +1137,42 @@ unsafe fn occluded_avx2(
     p.occluded_in_packets(t, buf, from, tmin, last, s, out)
 }
 
+/// [`Prepared::walk_in_packets`] compiled for AVX-512.
+///
+/// # Safety
+/// The processor must have AVX-512F (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn walk_avx512(
+    p: &Prepared,
+    t: crate::simd::Avx512,
+    rays: &[Ray],
+    tmin: f64,
+    tmax: f64,
+    s: &mut Scratch,
+    out: &mut [(u32, Hit)],
+) -> usize {
+    p.walk_in_packets(t, rays, tmin, tmax, s, out)
+}
+
+/// [`Prepared::walk_in_packets`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must have AVX2 (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn walk_avx2(
+    p: &Prepared,
+    t: crate::simd::Avx2,
+    rays: &[Ray],
+    tmin: f64,
+    tmax: f64,
+    s: &mut Scratch,
+    out: &mut [(u32, Hit)],
+) -> usize {
+    p.walk_in_packets(t, rays, tmin, tmax, s, out)
+}
+
 /// [`Prepared::hits_in_packets`] compiled for AVX2.
 ///
 /// # Safety
@@ -1172,15 +1451,16 @@ mod tests {
                     .collect()
             }
         };
+        // An orthographic view's entry bounds are measured from the plane of
+        // its rays' origins.
         let ortho = batch % 5 < 3;
         let dir = rays[0].dir;
-        let eye = if ortho {
-            rays[0].origin - dir * 10.0
-        } else {
-            eye
-        };
+        let eye = if ortho { rays[0].origin } else { eye };
         (rays, eye, ortho.then_some(dir))
     }
+
+    /// One way of tracing a batch of rays into a list of hits.
+    type Tracer<'a> = dyn FnMut(&mut [(u32, Hit)]) -> usize + 'a;
 
     /// Bit-for-bit equality of two hit lists.
     fn same(a: &[(u32, Hit)], b: &[(u32, Hit)]) -> bool {
@@ -1225,51 +1505,43 @@ mod tests {
                 one.truncate(n);
                 hits += n;
                 rays_cast += rays.len();
-                many.clear();
-                many.resize(rays.len(), (0, Hit::NONE));
-                let m = p.hits_in_packets(
-                    Portable,
-                    &sorted,
-                    &rays,
-                    tmin,
-                    f64::INFINITY,
-                    &mut s,
-                    &mut many,
-                );
-                assert!(same(&one, &many[..m]), "four portable lanes, batch {batch}");
+                // Every way of tracing them: the tile's list and the
+                // hierarchy, ray by ray and in packets of every width.
+                let inf = f64::INFINITY;
+                let mut check = |how: &str, trace: &mut Tracer| {
+                    many.clear();
+                    many.resize(rays.len(), (0, Hit::NONE));
+                    let m = trace(&mut many);
+                    assert!(same(&one, &many[..m]), "{how}, batch {batch}");
+                };
+                check("list, four portable lanes", &mut |o| {
+                    p.hits_in_packets(Portable, &sorted, &rays, tmin, inf, &mut s, o)
+                });
+                check("walk, ray by ray", &mut |o| {
+                    p.walk_one_by_one(&rays, tmin, inf, &mut s, o)
+                });
+                check("walk, four portable lanes", &mut |o| {
+                    p.walk_in_packets(Portable, &rays, tmin, inf, &mut s, o)
+                });
                 #[cfg(target_arch = "x86_64")]
                 {
+                    // SAFETY (all four): the tokens prove the instructions
+                    // are there.
                     if let Some(t) = crate::simd::Avx512::detect() {
-                        // SAFETY: the token proves the instructions are there.
-                        let m = unsafe {
-                            hits_avx512(
-                                &p,
-                                t,
-                                &sorted,
-                                &rays,
-                                tmin,
-                                f64::INFINITY,
-                                &mut s,
-                                &mut many,
-                            )
-                        };
-                        assert!(same(&one, &many[..m]), "AVX-512, batch {batch}");
+                        check("list, AVX-512", &mut |o| unsafe {
+                            hits_avx512(&p, t, &sorted, &rays, tmin, inf, &mut s, o)
+                        });
+                        check("walk, AVX-512", &mut |o| unsafe {
+                            walk_avx512(&p, t, &rays, tmin, inf, &mut s, o)
+                        });
                     }
                     if let Some(t) = crate::simd::Avx2::detect() {
-                        // SAFETY: as above.
-                        let m = unsafe {
-                            hits_avx2(
-                                &p,
-                                t,
-                                &sorted,
-                                &rays,
-                                tmin,
-                                f64::INFINITY,
-                                &mut s,
-                                &mut many,
-                            )
-                        };
-                        assert!(same(&one, &many[..m]), "AVX2, batch {batch}");
+                        check("list, AVX2", &mut |o| unsafe {
+                            hits_avx2(&p, t, &sorted, &rays, tmin, inf, &mut s, o)
+                        });
+                        check("walk, AVX2", &mut |o| unsafe {
+                            walk_avx2(&p, t, &rays, tmin, inf, &mut s, o)
+                        });
                     }
                 }
             }

@@ -74,8 +74,10 @@ pub(crate) struct PZone {
 pub(crate) enum Tight {
     /// Nothing better than the box.
     Box,
-    /// The ball of a sphere (its body).
-    Ball(u32),
+    /// The ball of a sphere among its `+` bodies: centre and radius, kept
+    /// here so that the tests of a tile's zones do not fetch the bodies
+    /// (100,000 spheres' bodies are 26 MB).
+    Ball(DVec3, f64),
     /// The convex hull of `hull_pts[a..b]` ([`Shape::hull_points`]).
     Points(u32, u32),
 }
@@ -84,8 +86,8 @@ pub(crate) enum Tight {
 pub(crate) enum Tighter<'a> {
     /// Nothing better than the box.
     Box,
-    /// A sphere among its `+` bodies.
-    Ball(&'a crate::shape::Sphere),
+    /// The ball of a sphere among its `+` bodies: centre and radius.
+    Ball(DVec3, f64),
     /// Points whose convex hull holds one of its `+` bodies.
     Points(&'a [DVec3]),
 }
@@ -278,7 +280,7 @@ impl Prepared {
                 let plus = &terms[z.first as usize..z.first as usize + z.plus as usize];
                 plus.iter()
                     .find_map(|&b| match &shapes[b as usize] {
-                        Shape::Sphere(_) => Some(Tight::Ball(b)),
+                        Shape::Sphere(sp) => Some(Tight::Ball(sp.c, sp.r)),
                         s => s.hull_points(tol).map(|pts| {
                             let a = hull_pts.len() as u32;
                             hull_pts.extend(pts);
@@ -353,10 +355,7 @@ impl Prepared {
     #[inline]
     pub(crate) fn tighter(&self, zi: u32) -> Tighter<'_> {
         match self.tight[zi as usize] {
-            Tight::Ball(b) => match &self.shapes[b as usize] {
-                Shape::Sphere(s) => Tighter::Ball(s),
-                _ => Tighter::Box,
-            },
+            Tight::Ball(c, r) => Tighter::Ball(c, r),
             Tight::Points(a, e) => Tighter::Points(&self.hull_pts[a as usize..e as usize]),
             Tight::Box => Tighter::Box,
         }

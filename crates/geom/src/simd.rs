@@ -67,6 +67,10 @@ pub(crate) trait Simd: Copy {
     fn bits(self, m: Self::M) -> u32;
     /// The mask of the low `LANES` bits of `b`.
     fn mask(self, b: u32) -> Self::M;
+    /// The least lane (of lanes that are numbers).
+    fn min_lane(self, a: Self::F) -> f64;
+    /// Lane `i` is `v[first + i * stride]`; `v` must hold them all.
+    fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F;
 
     /// `a > b`.
     #[inline(always)]
@@ -201,6 +205,14 @@ impl Simd for Portable {
     fn mask(self, b: u32) -> Self::M {
         lanes(|i| b & (1 << i) != 0)
     }
+    #[inline(always)]
+    fn min_lane(self, a: Self::F) -> f64 {
+        a.iter().fold(f64::INFINITY, |m, &v| m.min(v))
+    }
+    #[inline(always)]
+    fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
+        lanes(|i| v[first + i * stride])
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -332,6 +344,23 @@ mod x86 {
         fn mask(self, b: u32) -> Self::M {
             b as u8
         }
+        #[inline(always)]
+        fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
+            assert!(first + 7 * stride < v.len());
+            let s = stride as i64;
+            unsafe {
+                let at = _mm512_setr_epi64(0, s, 2 * s, 3 * s, 4 * s, 5 * s, 6 * s, 7 * s);
+                _mm512_i64gather_pd::<8>(at, v.as_ptr().add(first).cast())
+            }
+        }
+        #[inline(always)]
+        fn min_lane(self, a: Self::F) -> f64 {
+            unsafe {
+                let m = _mm256_min_pd(_mm512_castpd512_pd256(a), _mm512_extractf64x4_pd::<1>(a));
+                let m = _mm_min_pd(_mm256_castpd256_pd128(m), _mm256_extractf128_pd::<1>(m));
+                _mm_cvtsd_f64(_mm_min_sd(m, _mm_unpackhi_pd(m, m)))
+            }
+        }
     }
 
     /// AVX2: four lanes, masks as all-ones lanes.
@@ -439,6 +468,22 @@ mod x86 {
         #[inline(always)]
         fn bits(self, m: Self::M) -> u32 {
             unsafe { _mm256_movemask_pd(m) as u32 }
+        }
+        #[inline(always)]
+        fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
+            assert!(first + 3 * stride < v.len());
+            let s = stride as i64;
+            unsafe {
+                let at = _mm256_setr_epi64x(0, s, 2 * s, 3 * s);
+                _mm256_i64gather_pd::<8>(v.as_ptr().add(first), at)
+            }
+        }
+        #[inline(always)]
+        fn min_lane(self, a: Self::F) -> f64 {
+            unsafe {
+                let m = _mm_min_pd(_mm256_castpd256_pd128(a), _mm256_extractf128_pd::<1>(a));
+                _mm_cvtsd_f64(_mm_min_sd(m, _mm_unpackhi_pd(m, m)))
+            }
         }
         #[inline(always)]
         fn mask(self, b: u32) -> Self::M {

@@ -356,8 +356,9 @@ impl Prepared {
     /// The first surface of an opaque region met along the ray with
     /// `tmin < t < tmax`. A ray that starts inside an opaque region hits it
     /// at `tmin` with `inside` set. Ties between regions sharing a surface
-    /// go to the lower region index, so the answer does not depend on the
-    /// order in which the hierarchy is walked.
+    /// go to the lower region index, and within a region to the lower zone,
+    /// so the answer does not depend on the order in which the hierarchy is
+    /// walked.
     pub fn first_hit(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> Option<Hit> {
         s.new_ray();
         let mut best = Hit::NONE;
@@ -440,10 +441,10 @@ impl Prepared {
                 }
             };
             // A ball inside the box may lie farther off than the box.
-            if let Tighter::Ball(sp) = self.tighter(zi) {
+            if let Tighter::Ball(c, r) = self.tighter(zi) {
                 let ball = match parallel {
-                    None => (sp.c - eye).length() - sp.r,
-                    Some(d) => sp.c.dot(d) - sp.r - base,
+                    None => (c - eye).length() - r,
+                    Some(d) => c.dot(d) - r - base,
                 };
                 near = near.max(ball);
             }
@@ -476,8 +477,14 @@ impl Prepared {
         } else {
             (tmin, true)
         };
-        // Any hit is better than none (region `u32::MAX`).
-        if t < best.t || (t == best.t && z.region < best.region) {
+        // Any hit is better than none (region `u32::MAX`). At equal `t`
+        // the lower region wins, and within a region the lower zone (two
+        // zones of a region may be entered through the same surface): the
+        // hit is then the same in whatever order the zones are tried.
+        if t < best.t
+            || (t == best.t
+                && (z.region < best.region || (z.region == best.region && zi < best.zone)))
+        {
             *best = Hit {
                 zone: zi,
                 t,
@@ -517,7 +524,7 @@ impl Prepared {
     fn tighter_meets(&self, zi: u32, f: &Frustum) -> bool {
         match self.tighter(zi) {
             Tighter::Box => true,
-            Tighter::Ball(sp) => f.may_meet_ball(sp.c, sp.r),
+            Tighter::Ball(c, r) => f.may_meet_ball(c, r),
             Tighter::Points(pts) => f.may_meet_points(pts),
         }
     }

@@ -65,7 +65,15 @@ struct Workspace<'a> {
 }
 
 impl<'a> Workspace<'a> {
-    fn new(p: &Prepared, lights: usize, buffers: &'a [Buffer]) -> Workspace<'a> {
+    fn new(p: &Prepared, lights: &[Light], buffers: &'a [Buffer]) -> Workspace<'a> {
+        let toward = lights
+            .iter()
+            .map(|l| match l.kind {
+                LightKind::Parallel { dir } => -dir.normalize(),
+                LightKind::Point { .. } => DVec3::ZERO,
+            })
+            .collect();
+        let lights = lights.len();
         Workspace {
             s: Scratch::new(p),
             cands: Vec::new(),
@@ -77,6 +85,7 @@ impl<'a> Workspace<'a> {
             normals: Vec::new(),
             shadow: Occluders {
                 buffers,
+                toward,
                 last: vec![None; lights],
                 sets: vec![None; lights],
                 blocked: vec![Vec::new(); lights],
@@ -109,6 +118,9 @@ struct BandLists {
 #[derive(Default)]
 struct Occluders<'a> {
     buffers: &'a [Buffer],
+    /// Per light, the unit vector toward a parallel light (unused for a
+    /// point light): normalised once, not for every point shaded.
+    toward: Vec<DVec3>,
     /// Per light with a buffer, the zone that blocked the last shadow ray.
     last: Vec<Option<u32>>,
     sets: Vec<Option<Vec<u32>>>,
@@ -395,13 +407,17 @@ impl Renderer {
         for (li, l) in self.lights.iter().enumerate() {
             let buffer = occ.buffers.get(li);
             // The fall-off's exponent: none for a parallel light.
-            let (to_light, dist, decay) = match (l.kind, buffer) {
-                // The buffer keeps the direction, made once.
-                (LightKind::Parallel { .. }, Some(Buffer::Parallel(lb))) => {
-                    (lb.toward(), f64::INFINITY, None)
-                }
-                (LightKind::Parallel { dir }, _) => (-dir.normalize(), f64::INFINITY, None),
-                (LightKind::Point { pos, decay }, _) => {
+            let (to_light, dist, decay) = match l.kind {
+                // Made once a render (as the light's buffer has it).
+                LightKind::Parallel { dir } => (
+                    occ.toward
+                        .get(li)
+                        .copied()
+                        .unwrap_or_else(|| -dir.normalize()),
+                    f64::INFINITY,
+                    None,
+                ),
+                LightKind::Point { pos, decay } => {
                     let d = pos - p;
                     let r = d.length();
                     (d / r, r, Some(decay))
@@ -496,7 +512,7 @@ impl Renderer {
             let i = rayon::current_thread_index().unwrap_or(0) % pool.len();
             pool[i].lock().unwrap_or_else(|e| e.into_inner())
         };
-        let make = || Workspace::new(&self.prepared, self.lights.len(), &buffers);
+        let make = || Workspace::new(&self.prepared, &self.lights, &buffers);
         let parallel = ortho.then(|| self.camera.dir.normalize());
         // A tile row of background, copied whole (a fill writes it a
         // pixel at a time).
@@ -570,17 +586,14 @@ impl Renderer {
                                 &mut ws.hits,
                             );
                         } else {
-                            if ws.hits.len() < ws.rays.len() {
-                                ws.hits.resize(ws.rays.len(), (0, Hit::NONE));
-                            }
-                            for (k, ray) in ws.rays.iter().enumerate() {
-                                if let Some(h) =
-                                    self.prepared.first_hit(ray, 0.0, f64::INFINITY, &mut ws.s)
-                                {
-                                    ws.hits[found] = (k as u32, h);
-                                    found += 1;
-                                }
-                            }
+                            // A crowded tile: its rays walk the hierarchy.
+                            found = self.prepared.first_hits(
+                                &ws.rays,
+                                0.0,
+                                f64::INFINITY,
+                                &mut ws.s,
+                                &mut ws.hits,
+                            );
                         }
                     }
                     // Then, per point light, the zones the tile's shadow
@@ -736,27 +749,17 @@ impl Renderer {
     }
 }
 
-/// The columns of tiles (inclusive) where a box may be seen: those of the
-/// raster columns of its corners, a pixel wider either side for rounding;
-/// every column when a corner is not in front of the eye.
+/// The columns of tiles (inclusive) where a box may be seen
+/// ([`RayGen::raster_x_span`]), a pixel wider either side for rounding;
+/// every column for a box reaching behind the eye.
 fn tile_span(b: &Aabb, gen: &RayGen, n: usize) -> (usize, usize) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..8 {
-        let c = DVec3::new(
-            if i & 1 == 0 { b.min.x } else { b.max.x },
-            if i & 2 == 0 { b.min.y } else { b.max.y },
-            if i & 4 == 0 { b.min.z } else { b.max.z },
-        );
-        match gen.raster_x(c) {
-            Some(x) if x.is_finite() => {
-                lo = lo.min(x);
-                hi = hi.max(x);
-            }
-            _ => return (0, n - 1),
+    match gen.raster_x_span(b) {
+        Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
+            let tile = |x: f64| ((x / TILE as f64).floor().max(0.0) as usize).min(n - 1);
+            (tile(lo - 1.0), tile(hi + 1.0))
         }
+        _ => (0, n - 1),
     }
-    let tile = |x: f64| ((x / TILE as f64).floor().max(0.0) as usize).min(n - 1);
-    (tile(lo - 1.0), tile(hi + 1.0))
 }
 
 /// A unit vector from azimuth and elevation in degrees (BRL-CAD's

@@ -1,4 +1,4 @@
-use sv_math::{orthonormal_basis, DVec3, Ray};
+use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
 /// How the camera projects.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -151,6 +151,35 @@ impl RayGen {
             sx /= z;
         }
         Some((sx + 1.0) / (2.0 * self.inv_w))
+    }
+
+    /// The raster columns (`x`, in pixels from the left edge) between
+    /// which a box may be seen, or `None` when it reaches to or behind the
+    /// plane of a perspective camera's eye. Conservative up to rounding:
+    /// the box's extent across and along the view, in the camera's frame,
+    /// bounds the columns of its corners.
+    pub fn raster_x_span(&self, b: &Aabb) -> Option<(f64, f64)> {
+        let across = self.right / self.right.length_squared();
+        let (c, e) = (b.center() - self.eye, b.size() * 0.5);
+        let (x, ex) = (c.dot(across), e.dot(across.abs()));
+        let (x0, x1) = if self.ortho {
+            (x - ex, x + ex)
+        } else {
+            let (z, ez) = (c.dot(self.forward), e.dot(self.forward.abs()));
+            let (near, far) = (z - ez, z + ez);
+            if near <= 0.0 || near.is_nan() {
+                return None;
+            }
+            // The least and greatest of x / z over the box's (x, z) range.
+            let lo = x - ex;
+            let hi = x + ex;
+            (
+                lo / if lo >= 0.0 { far } else { near },
+                hi / if hi >= 0.0 { near } else { far },
+            )
+        };
+        let to_raster = |sx: f64| (sx + 1.0) / (2.0 * self.inv_w);
+        Some((to_raster(x0), to_raster(x1)))
     }
 
     /// The rays through many raster positions, appended to `out`: exactly

@@ -31,6 +31,7 @@ mod trace;
 
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
+pub use packet::Tile;
 pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
 pub use trace::{Crossing, Frustum, Hit, Partition, Scratch, Step};

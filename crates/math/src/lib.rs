@@ -18,7 +18,9 @@ pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3, Vec3A};
 mod aabb;
 mod frame;
 mod ray;
+mod raygen;
 
 pub use aabb::Aabb;
 pub use frame::{orthonormal_basis, rotation_about_axis};
 pub use ray::Ray;
+pub use raygen::RayGen;

@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use sv_geom::{
-    Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared, Scratch,
+    Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared, Scratch, Tile,
     Warning,
 };
 
@@ -47,6 +47,8 @@ struct Workspace<'a> {
     /// The raster positions of the tile's primary rays, and the rays.
     pts: Vec<[f64; 2]>,
     rays: Vec<Ray>,
+    /// The rays of the tile's hits, in the order of `hits`.
+    hit_rays: Vec<Ray>,
     /// The tile's primary rays that hit: their sample number in the tile
     /// (an index into `rays`) and the hit, in as many first entries as
     /// there are hits. Rays that miss are not kept; the entries past the
@@ -82,6 +84,7 @@ impl<'a> Workspace<'a> {
             pts: Vec::new(),
             rays: Vec::new(),
             hits: Vec::new(),
+            hit_rays: Vec::new(),
             normals: Vec::new(),
             shadow: Occluders {
                 buffers,
@@ -344,9 +347,10 @@ impl Renderer {
         }
     }
 
-    /// Test the shadow rays of the tile's `hits` toward each parallel light
-    /// with a buffer, in packets, into `occ.blocked` (a hit facing away
-    /// from the light has no shadow ray; its answer is never read).
+    /// Test the shadow rays of the tile's `hits` (with their `rays`) toward
+    /// each parallel light with a buffer, in packets, into `occ.blocked` (a
+    /// hit facing away from the light has no shadow ray; its answer is
+    /// never read).
     #[allow(clippy::too_many_arguments)]
     fn shadows_toward_suns(
         &self,
@@ -367,12 +371,12 @@ impl Renderer {
             };
             from.clear();
             which.clear();
-            for (h, ((k, hit), n)) in hits.iter().zip(normals).enumerate() {
+            for (h, (((_, hit), n), ray)) in hits.iter().zip(normals).zip(rays).enumerate() {
                 // As `shade_with`: no shadow ray where `cos θ <= 0` (a
                 // normal that is not a number does get one there).
                 let cos = n.dot(lb.toward());
                 if cos > 0.0 || cos.is_nan() {
-                    from.push((rays[*k as usize].at(hit.t), self.prepared.shadow_skip(hit)));
+                    from.push((ray.at(hit.t), self.prepared.shadow_skip(hit)));
                     which.push(h as u32);
                 }
             }
@@ -557,7 +561,29 @@ impl Renderer {
                     // Primary rays of the whole tile first (none when no
                     // zone meets the tile: it is all background).
                     let mut found = 0;
-                    if !(few && ws.sorted.is_empty()) {
+                    // A crowded tile's rays walk the hierarchy.
+                    let zones = few.then_some(&ws.sorted[..]);
+                    if !(few && ws.sorted.is_empty()) && n == 1 {
+                        // One ray a pixel: made several at once with the
+                        // hits, where the processor can (only the hits'
+                        // rays are kept).
+                        let tile = Tile {
+                            x0,
+                            x1,
+                            y0,
+                            y1: y0 + rows,
+                        };
+                        found = self.prepared.tile_hits(
+                            &gen,
+                            tile,
+                            zones,
+                            0.0,
+                            f64::INFINITY,
+                            &mut ws.s,
+                            &mut ws.hits,
+                            &mut ws.hit_rays,
+                        );
+                    } else if !(few && ws.sorted.is_empty()) {
                         ws.pts.clear();
                         for yy in 0..rows {
                             for x in x0..x1 {
@@ -575,26 +601,26 @@ impl Renderer {
                         // `first_hit_in`); the slot is kept when it holds
                         // one. The slots are only ever added to: filling
                         // them anew for every tile stalls as a copy does.
-                        if few {
-                            // Several rays at once where the processor can.
-                            found = self.prepared.first_hits_in(
-                                &ws.sorted,
+                        found = match zones {
+                            Some(zones) => self.prepared.first_hits_in(
+                                zones,
                                 &ws.rays,
                                 0.0,
                                 f64::INFINITY,
                                 &mut ws.s,
                                 &mut ws.hits,
-                            );
-                        } else {
-                            // A crowded tile: its rays walk the hierarchy.
-                            found = self.prepared.first_hits(
+                            ),
+                            None => self.prepared.first_hits(
                                 &ws.rays,
                                 0.0,
                                 f64::INFINITY,
                                 &mut ws.s,
                                 &mut ws.hits,
-                            );
-                        }
+                            ),
+                        };
+                        ws.hit_rays.clear();
+                        ws.hit_rays
+                            .extend(ws.hits[..found].iter().map(|(k, _)| ws.rays[*k as usize]));
                     }
                     // Then, per point light, the zones the tile's shadow
                     // rays may meet: those in the box of the tile's hit
@@ -607,13 +633,14 @@ impl Renderer {
                     ws.normals.clear();
                     ws.normals.extend(
                         hits.iter()
-                            .map(|(k, h)| self.prepared.normal(h, &ws.rays[*k as usize])),
+                            .zip(&ws.hit_rays)
+                            .map(|((_, h), ray)| self.prepared.normal(h, ray)),
                     );
                     if st.shadows && !hits.is_empty() {
                         self.shadows_toward_suns(
                             hits,
                             &ws.normals,
-                            &ws.rays,
+                            &ws.hit_rays,
                             &mut ws.shadow,
                             &mut ws.from,
                             &mut ws.which,
@@ -623,7 +650,9 @@ impl Renderer {
                     }
                     if st.shadows && !hits.is_empty() && point_lights {
                         let from = Aabb::from_points(
-                            hits.iter().map(|(k, h)| ws.rays[*k as usize].at(h.t)),
+                            hits.iter()
+                                .zip(&ws.hit_rays)
+                                .map(|((_, h), ray)| ray.at(h.t)),
                         );
                         for (l, set) in self.lights.iter().zip(ws.shadow.sets.iter_mut()) {
                             if let LightKind::Point { pos, .. } = l.kind {
@@ -657,7 +686,7 @@ impl Renderer {
                             let k = *k as usize;
                             let i = k / tw * w + x0 + k % tw;
                             let c = self.shade_with(
-                                &ws.rays[k],
+                                &ws.hit_rays[h],
                                 hit,
                                 h,
                                 normal,
@@ -691,7 +720,7 @@ impl Renderer {
                                         next += 1;
                                         cover += 1.0;
                                         self.shade_with(
-                                            &ws.rays[k as usize],
+                                            &ws.hit_rays[next - 1],
                                             hit,
                                             next - 1,
                                             ws.normals[next - 1],

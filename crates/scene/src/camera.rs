@@ -1,4 +1,4 @@
-use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
+use sv_math::{orthonormal_basis, DVec3, RayGen};
 
 /// How the camera projects.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,141 +90,22 @@ impl Camera {
             Lens::Ortho { height } => (height / 2.0, true),
             _ => (self.tan_half_fov(), false),
         };
-        // Every orthographic ray has the same direction: made once.
-        let along = Ray::new(DVec3::ZERO, f);
-        RayGen {
-            eye: self.eye,
-            right: r * (half_h * aspect),
-            up: u * half_h,
-            forward: f,
-            along,
+        RayGen::new(
+            self.eye,
+            r * (half_h * aspect),
+            u * half_h,
+            f,
             ortho,
-            inv_w: 1.0 / width as f64,
-            inv_h: 1.0 / height as f64,
-        }
-    }
-}
-
-/// Makes the primary ray through any point of the raster.
-#[derive(Clone, Copy, Debug)]
-pub struct RayGen {
-    eye: DVec3,
-    right: DVec3,
-    up: DVec3,
-    forward: DVec3,
-    /// The direction of orthographic rays (origin unused).
-    along: Ray,
-    ortho: bool,
-    inv_w: f64,
-    inv_h: f64,
-}
-
-impl RayGen {
-    /// The ray through raster position (`x`, `y`), measured in pixels from
-    /// the top-left corner (pixel centres are at `i + 0.5`).
-    #[inline]
-    pub fn ray(&self, x: f64, y: f64) -> Ray {
-        let sx = 2.0 * x * self.inv_w - 1.0;
-        let sy = 1.0 - 2.0 * y * self.inv_h;
-        if self.ortho {
-            // Exactly `Ray::new(origin, self.forward)`.
-            Ray {
-                origin: self.eye + self.right * sx + self.up * sy,
-                ..self.along
-            }
-        } else {
-            Ray::new(self.eye, self.forward + self.right * sx + self.up * sy)
-        }
-    }
-
-    /// The raster column (`x`, in pixels from the left edge) where point
-    /// `p` is seen, or `None` for a point not in front of a perspective
-    /// camera. The inverse of [`RayGen::ray`] up to rounding.
-    pub fn raster_x(&self, p: DVec3) -> Option<f64> {
-        let q = p - self.eye;
-        let mut sx = q.dot(self.right) / self.right.length_squared();
-        if !self.ortho {
-            let z = q.dot(self.forward);
-            if z <= 0.0 || z.is_nan() {
-                return None;
-            }
-            sx /= z;
-        }
-        Some((sx + 1.0) / (2.0 * self.inv_w))
-    }
-
-    /// The raster columns (`x`, in pixels from the left edge) between
-    /// which a box may be seen, or `None` when it reaches to or behind the
-    /// plane of a perspective camera's eye. Conservative up to rounding:
-    /// the box's extent across and along the view, in the camera's frame,
-    /// bounds the columns of its corners.
-    pub fn raster_x_span(&self, b: &Aabb) -> Option<(f64, f64)> {
-        let across = self.right / self.right.length_squared();
-        let (c, e) = (b.center() - self.eye, b.size() * 0.5);
-        let (x, ex) = (c.dot(across), e.dot(across.abs()));
-        let (x0, x1) = if self.ortho {
-            (x - ex, x + ex)
-        } else {
-            let (z, ez) = (c.dot(self.forward), e.dot(self.forward.abs()));
-            let (near, far) = (z - ez, z + ez);
-            if near <= 0.0 || near.is_nan() {
-                return None;
-            }
-            // The least and greatest of x / z over the box's (x, z) range.
-            let lo = x - ex;
-            let hi = x + ex;
-            (
-                lo / if lo >= 0.0 { far } else { near },
-                hi / if hi >= 0.0 { near } else { far },
-            )
-        };
-        let to_raster = |sx: f64| (sx + 1.0) / (2.0 * self.inv_w);
-        Some((to_raster(x0), to_raster(x1)))
-    }
-
-    /// The rays through many raster positions, appended to `out`: exactly
-    /// what [`RayGen::ray`] makes for each, but made eight at a time so
-    /// that the square roots and divisions of perspective rays run as
-    /// vector instructions.
-    pub fn rays(&self, pts: &[[f64; 2]], out: &mut Vec<Ray>) {
-        const N: usize = 8;
-        if self.ortho {
-            out.extend(pts.iter().map(|&[x, y]| self.ray(x, y)));
-            return;
-        }
-        for chunk in pts.chunks(N) {
-            // The same operations in the same order as `ray`, `Ray::new`
-            // and glam's `normalize` and `recip`, one lane per ray.
-            let (mut dx, mut dy, mut dz) = ([0.0; N], [0.0; N], [0.0; N]);
-            for (k, &[x, y]) in chunk.iter().enumerate() {
-                let sx = 2.0 * x * self.inv_w - 1.0;
-                let sy = 1.0 - 2.0 * y * self.inv_h;
-                let d = self.forward + self.right * sx + self.up * sy;
-                (dx[k], dy[k], dz[k]) = (d.x, d.y, d.z);
-            }
-            let mut r = [0.0; N];
-            for k in 0..N {
-                r[k] = 1.0 / ((dx[k] * dx[k]) + (dy[k] * dy[k]) + (dz[k] * dz[k])).sqrt();
-            }
-            let mut inv = [[0.0; N]; 3];
-            for k in 0..N {
-                (dx[k], dy[k], dz[k]) = (dx[k] * r[k], dy[k] * r[k], dz[k] * r[k]);
-                inv[0][k] = 1.0 / dx[k];
-                inv[1][k] = 1.0 / dy[k];
-                inv[2][k] = 1.0 / dz[k];
-            }
-            out.extend((0..chunk.len()).map(|k| Ray {
-                origin: self.eye,
-                dir: DVec3::new(dx[k], dy[k], dz[k]),
-                inv_dir: DVec3::new(inv[0][k], inv[1][k], inv[2][k]),
-            }));
-        }
+            width,
+            height,
+        )
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sv_math::Ray;
 
     #[test]
     fn rays_made_together_equal_rays_made_one_by_one() {

@@ -9,7 +9,8 @@ mod camera;
 mod light;
 mod scene;
 
-pub use camera::{Camera, Lens, RayGen};
+pub use camera::{Camera, Lens};
 pub use light::{Light, LightKind};
 pub use scene::{Background, RegionProps, Scene, Units};
 pub use sv_geom as geom;
+pub use sv_math::RayGen;

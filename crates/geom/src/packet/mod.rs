@@ -1,0 +1,576 @@
+//! Primary rays in packets: a tile's rays traced several at once, one ray
+//! per vector lane (Wald et al. 2001, "Interactive rendering with
+//! coherent ray tracing"), through the tile's sorted list of zones.
+//!
+//! A packet walks the list once for all its rays: each lane keeps its own
+//! limit and stops where its ray alone would stop, the zone's box and
+//! bodies are tested for every lane at once, and a zone whose bodies are
+//! all convex (spheres, ellipsoids, cones and cylinders, boxes, polyhedra)
+//! has its span intersected and subtracted in the lanes, with exactly the
+//! comparisons of [`Prepared::zone_spans`]. Every other case goes to the
+//! scalar code, one lane at a time: a zone with a torus, a faceted solid,
+//! a quadric or a general cone; a `-` body that splits a span in two.
+//!
+//! Each lane computes with the same IEEE operations, in the same order, as
+//! the scalar tracer does for its ray, so the hits are the same bit for bit
+//! (tested against [`Prepared::first_hit_in`] for every lane width).
+
+use crate::boolean::Bound;
+use crate::prepare::{PZone, Prepared};
+use crate::shape::Shape;
+use crate::simd::Simd;
+use crate::trace::{Hit, Scratch};
+use sv_math::{Aabb, DMat3, DVec3, Ray};
+
+mod primary;
+mod shadow;
+
+pub use primary::Tile;
+#[cfg(test)]
+mod tests;
+
+/// The widest packet of any instruction set.
+pub(crate) const MAX_LANES: usize = 8;
+
+/// The rays of a packet, one vector per coordinate.
+pub(crate) struct Lanes<S: Simd> {
+    /// Origins.
+    pub o: [S::F; 3],
+    /// Unit directions.
+    pub d: [S::F; 3],
+    /// Reciprocals of the directions.
+    pub inv: [S::F; 3],
+}
+
+/// A convex body's segment along each lane's ray, in the lanes of `hit`:
+/// entry and exit, and the faces crossed there (small integers in `f64`).
+pub(crate) struct SegLanes<S: Simd> {
+    pub t0: S::F,
+    pub t1: S::F,
+    pub f0: S::F,
+    pub f1: S::F,
+    pub hit: S::M,
+}
+
+/// One end of a span in every lane: a [`Bound`] with its body and its
+/// face and flip bits held as `f64` (exact below 2⁵³), so that a lane
+/// picks whole ends with one select per field.
+#[derive(Clone, Copy)]
+struct End<S: Simd> {
+    t: S::F,
+    body: S::F,
+    face: S::F,
+}
+
+/// A span in every lane.
+#[derive(Clone, Copy)]
+struct SpanLanes<S: Simd> {
+    a: End<S>,
+    b: End<S>,
+}
+
+/// Each lane's best hit so far, as [`Prepared::consider`] keeps it for one
+/// ray: the lowest entry (ties to the lower region), and the limit past
+/// which no zone can do better.
+struct Best<S: Simd> {
+    tmin: S::F,
+    limit: S::F,
+    t: S::F,
+    region: S::F,
+    zone: S::F,
+    inside: S::M,
+    /// The surface entered.
+    a: End<S>,
+}
+
+impl<S: Simd> Best<S> {
+    #[inline(always)]
+    fn new(s: S, tmin: f64, tmax: f64) -> Best<S> {
+        let none = s.splat(f64::from(u32::MAX));
+        Best {
+            tmin: s.splat(tmin),
+            limit: s.splat(tmax),
+            t: s.splat(f64::INFINITY),
+            region: none,
+            zone: none,
+            inside: s.none(),
+            a: End {
+                t: s.splat(f64::INFINITY),
+                body: none,
+                face: s.splat(0.0),
+            },
+        }
+    }
+
+    /// Write the lanes' hits to the first places of `out` in lane order,
+    /// each with its lane's index from `index`, and their rays to the same
+    /// places of `rays` when given; the number of hits.
+    #[inline(always)]
+    fn emit(
+        &self,
+        s: S,
+        index: &[u32; MAX_LANES],
+        out: &mut [(u32, Hit)],
+        rays: Option<(&Lanes<S>, &mut [Ray])>,
+    ) -> usize {
+        let hit = s.bits(s.lt(self.region, s.splat(f64::from(u32::MAX))));
+        if hit == 0 {
+            return 0;
+        }
+        let (t, region, zone) = (
+            Spill::of(s, self.t),
+            Spill::of(s, self.region),
+            Spill::of(s, self.zone),
+        );
+        let (at, body, face) = (
+            Spill::of(s, self.a.t),
+            Spill::of(s, self.a.body),
+            Spill::of(s, self.a.face),
+        );
+        let inside = s.bits(self.inside);
+        let mut n = 0;
+        for (j, &at_index) in index.iter().enumerate().take(S::LANES) {
+            if hit & (1 << j) != 0 {
+                // Written in place, field by field (see `first_hit_in`).
+                let slot = &mut out[n];
+                slot.0 = at_index;
+                slot.1 = Hit {
+                    t: t.0[j],
+                    region: region.0[j] as u32,
+                    bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
+                    inside: inside & (1 << j) != 0,
+                    zone: zone.0[j] as u32,
+                };
+                n += 1;
+            }
+        }
+        if let Some((r, rays)) = rays {
+            let lanes = lane_rays(s, r);
+            let mut n = 0;
+            for (j, ray) in lanes.iter().enumerate().take(S::LANES) {
+                if hit & (1 << j) != 0 {
+                    rays[n] = *ray;
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+}
+
+/// The flip bit of a [`Bound`], as added to a face held in `f64`.
+const FLIP: f64 = 2_147_483_648.0;
+
+/// `a · b` as glam computes it: `(x + y) + z`.
+#[inline(always)]
+pub(crate) fn dot<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> S::F {
+    s.add(
+        s.add(s.mul(a[0], b[0]), s.mul(a[1], b[1])),
+        s.mul(a[2], b[2]),
+    )
+}
+
+/// `m v` as glam computes it: the columns scaled by `v`'s coordinates and
+/// added left to right.
+///
+/// Everything the packet tracer calls between its entry points (compiled
+/// for an instruction set) and the intrinsics is `#[inline(always)]` and
+/// free of closures: an intrinsic left in a function compiled without its
+/// instruction set stays a call.
+#[inline(always)]
+pub(crate) fn mat_vec<S: Simd>(s: S, m: &DMat3, v: [S::F; 3]) -> [S::F; 3] {
+    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+    [
+        row(s, x.x, y.x, z.x, v),
+        row(s, x.y, y.y, z.y, v),
+        row(s, x.z, y.z, z.z, v),
+    ]
+}
+
+/// One coordinate of [`mat_vec`].
+#[inline(always)]
+fn row<S: Simd>(s: S, a: f64, b: f64, c: f64, v: [S::F; 3]) -> S::F {
+    s.add(
+        s.add(s.mul(s.splat(a), v[0]), s.mul(s.splat(b), v[1])),
+        s.mul(s.splat(c), v[2]),
+    )
+}
+
+/// `p - c` in every lane.
+#[inline(always)]
+pub(crate) fn sub_point<S: Simd>(s: S, p: [S::F; 3], c: DVec3) -> [S::F; 3] {
+    [
+        s.sub(p[0], s.splat(c.x)),
+        s.sub(p[1], s.splat(c.y)),
+        s.sub(p[2], s.splat(c.z)),
+    ]
+}
+
+/// `a + b t` in every lane.
+#[inline(always)]
+pub(crate) fn along<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
+    [
+        s.add(a[0], s.mul(b[0], t)),
+        s.add(a[1], s.mul(b[1], t)),
+        s.add(a[2], s.mul(b[2], t)),
+    ]
+}
+
+/// `a - b t` in every lane.
+#[inline(always)]
+pub(crate) fn back<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
+    [
+        s.sub(a[0], s.mul(b[0], t)),
+        s.sub(a[1], s.mul(b[1], t)),
+        s.sub(a[2], s.mul(b[2], t)),
+    ]
+}
+
+/// A point or vector in every lane.
+#[inline(always)]
+pub(crate) fn splat3<S: Simd>(s: S, v: DVec3) -> [S::F; 3] {
+    [s.splat(v.x), s.splat(v.y), s.splat(v.z)]
+}
+
+/// Lanes not set in `m`.
+#[inline(always)]
+pub(crate) fn not<S: Simd>(s: S, m: S::M) -> S::M {
+    s.andnot(s.mask(u32::MAX), m)
+}
+
+/// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
+/// [`crate::bvh`]'s `hits`, operation for operation.
+#[inline(always)]
+fn box_lanes<S: Simd>(s: S, b: &Aabb, r: &Lanes<S>, tmin: S::F, tmax: S::F) -> S::M {
+    let mut t0 = tmin;
+    let mut t1 = tmax;
+    for a in 0..3 {
+        let x0 = s.mul(s.sub(s.splat(b.min[a]), r.o[a]), r.inv[a]);
+        let x1 = s.mul(s.sub(s.splat(b.max[a]), r.o[a]), r.inv[a]);
+        t0 = s.max(s.min(x0, x1), t0);
+        t1 = s.min(s.max(x0, x1), t1);
+    }
+    s.le(t0, t1)
+}
+
+impl Shape {
+    /// True for the shapes [`Shape::shoot_lanes`] casts.
+    pub(crate) fn has_lanes(&self) -> bool {
+        matches!(
+            self,
+            Shape::Sphere(_)
+                | Shape::Ellipsoid(_)
+                | Shape::Cone(_)
+                | Shape::Rpp(_)
+                | Shape::Polyhedron(_)
+        )
+    }
+
+    /// [`Shape::shoot`] for every lane, for the shapes of
+    /// [`Shape::has_lanes`] (convex: one segment at most); others hit
+    /// nothing here and are left to the scalar code by the caller.
+    #[inline(always)]
+    fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        match self {
+            Shape::Sphere(b) => b.shoot_lanes(s, r),
+            Shape::Ellipsoid(b) => b.shoot_lanes(s, r),
+            Shape::Cone(b) => b.shoot_lanes(s, r),
+            Shape::Rpp(b) => b.shoot_lanes(s, r),
+            Shape::Polyhedron(b) => b.shoot_lanes(s, r),
+            _ => {
+                let z = s.splat(0.0);
+                SegLanes {
+                    t0: z,
+                    t1: z,
+                    f0: z,
+                    f1: z,
+                    hit: s.none(),
+                }
+            }
+        }
+    }
+}
+
+/// Working values of a packet's lanes, one place per lane, for the lanes
+/// left to the scalar code.
+#[derive(Clone, Copy)]
+struct Spill([f64; MAX_LANES]);
+
+impl Spill {
+    #[inline(always)]
+    fn of<S: Simd>(s: S, x: S::F) -> Spill {
+        let mut v = [0.0; MAX_LANES];
+        s.store(x, &mut v);
+        Spill(v)
+    }
+}
+
+/// The rays of a packet's lanes, one by one, for the scalar code (the
+/// values of the lanes, which are those of the rays they were made from).
+#[inline(always)]
+fn lane_rays<S: Simd>(s: S, r: &Lanes<S>) -> [Ray; MAX_LANES] {
+    let c = [
+        Spill::of(s, r.o[0]),
+        Spill::of(s, r.o[1]),
+        Spill::of(s, r.o[2]),
+        Spill::of(s, r.d[0]),
+        Spill::of(s, r.d[1]),
+        Spill::of(s, r.d[2]),
+        Spill::of(s, r.inv[0]),
+        Spill::of(s, r.inv[1]),
+        Spill::of(s, r.inv[2]),
+    ];
+    std::array::from_fn(|j| Ray {
+        origin: DVec3::new(c[0].0[j], c[1].0[j], c[2].0[j]),
+        dir: DVec3::new(c[3].0[j], c[4].0[j], c[5].0[j]),
+        inv_dir: DVec3::new(c[6].0[j], c[7].0[j], c[8].0[j]),
+    })
+}
+
+impl Prepared {
+    /// [`Prepared::consider`] of zone `zi` for the lanes of `m`.
+    #[inline(always)]
+    fn consider_lanes<S: Simd>(
+        &self,
+        s: S,
+        zi: u32,
+        r: &Lanes<S>,
+        m: S::M,
+        b: &mut Best<S>,
+        sc: &mut Scratch,
+    ) {
+        let z = &self.zones[zi as usize];
+        let m = s.and(m, box_lanes(s, &z.bounds, r, b.tmin, b.limit));
+        if !s.any(m) {
+            return;
+        }
+        let (mut sp, mut valid, scalar) = if z.lanes {
+            self.zone_lanes(s, z, r, m, b.tmin, b.limit)
+        } else {
+            let z0 = End {
+                t: b.tmin,
+                body: b.tmin,
+                face: b.tmin,
+            };
+            (SpanLanes { a: z0, b: z0 }, s.none(), m)
+        };
+        let left = s.bits(scalar);
+        if left != 0 {
+            // The scalar code's answers written over the lanes'.
+            let mut ends = [
+                Spill::of(s, sp.a.t),
+                Spill::of(s, sp.a.body),
+                Spill::of(s, sp.a.face),
+            ];
+            let found = self.spans_one_by_one(
+                z,
+                &lane_rays(s, r),
+                left,
+                &Spill::of(s, b.limit),
+                Spill::of(s, b.tmin).0[0],
+                sc,
+                &mut ends,
+            );
+            sp.a = End {
+                t: s.load(&ends[0].0),
+                body: s.load(&ends[1].0),
+                face: s.load(&ends[2].0),
+            };
+            valid = s.or(valid, s.mask(found));
+        }
+        if !s.any(valid) {
+            return;
+        }
+        // The best so far: the lowest entry, ties to the lower region, then
+        // to the lower zone.
+        let inside = s.andnot(valid, s.gt(sp.a.t, b.tmin));
+        let t = s.select(inside, b.tmin, sp.a.t);
+        let (region, zone) = (s.splat(f64::from(z.region)), s.splat(f64::from(zi)));
+        let lower = s.or(
+            s.lt(region, b.region),
+            s.and(s.eq(region, b.region), s.lt(zone, b.zone)),
+        );
+        let better = s.and(valid, s.or(s.lt(t, b.t), s.and(s.eq(t, b.t), lower)));
+        if !s.any(better) {
+            return;
+        }
+        b.t = s.select(better, t, b.t);
+        b.region = s.select(better, region, b.region);
+        b.zone = s.select(better, zone, b.zone);
+        b.inside = s.or(s.and(better, inside), s.andnot(b.inside, better));
+        b.a = pick(s, better, sp.a, b.a);
+        // Keep equal-t candidates reachable for the tie rule.
+        let slack = s.min(
+            s.add(s.mul(s.abs(t), s.splat(1e-15)), s.splat(f64::MIN_POSITIVE)),
+            s.splat(self.tol),
+        );
+        b.limit = s.select(better, s.add(t, slack), b.limit);
+    }
+
+    /// The zone's first span (its entry: distance, body, face) for the rays
+    /// of `lanes` by the scalar code, one ray at a time, written into those
+    /// lanes of `ends`; the lanes that have one.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn spans_one_by_one(
+        &self,
+        z: &PZone,
+        rays: &[Ray; MAX_LANES],
+        lanes: u32,
+        limit: &Spill,
+        tmin: f64,
+        sc: &mut Scratch,
+        ends: &mut [Spill; 3],
+    ) -> u32 {
+        let mut found = 0;
+        for (j, ray) in rays.iter().enumerate() {
+            if lanes & (1 << j) == 0 {
+                continue;
+            }
+            sc.new_ray();
+            if self.zone_spans(z, ray, tmin, limit.0[j], sc) {
+                let e = sc.cur[0].a;
+                ends[0].0[j] = e.t;
+                ends[1].0[j] = f64::from(e.body);
+                ends[2].0[j] = f64::from(e.face_flip());
+                found |= 1 << j;
+            }
+        }
+        found
+    }
+
+    /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
+    /// zone of [`PZone::lanes`]: the span, the lanes that have one, and the
+    /// lanes left to the scalar code (where a `-` body split the span and
+    /// its first piece did not last). Each step is
+    /// [`Prepared::convex_spans`]' for one span and one segment.
+    #[inline(always)]
+    fn zone_lanes<S: Simd>(
+        &self,
+        s: S,
+        z: &PZone,
+        r: &Lanes<S>,
+        m: S::M,
+        lo: S::F,
+        hi: S::F,
+    ) -> (SpanLanes<S>, S::M, S::M) {
+        let first = z.first as usize;
+        let terms = &self.terms[first..first + z.plus as usize + z.minus as usize];
+        let (plus, minus) = terms.split_at(z.plus as usize);
+        let tol = s.splat(self.tol);
+        let mut alive = m;
+        let mut cur: Option<SpanLanes<S>> = None;
+        for &b in plus {
+            // A lone `+` body has the zone's bounds, which the rays meet.
+            if plus.len() > 1 {
+                let inf = s.splat(f64::INFINITY);
+                let bounds = &self.body_bounds[b as usize];
+                alive = s.and(alive, box_lanes(s, bounds, r, s.neg(inf), inf));
+            }
+            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            alive = s.and(alive, g.hit);
+            let q = span(s, &g, b);
+            cur = Some(match cur {
+                None => {
+                    alive = s.and(alive, s.and(s.gt(q.b.t, lo), s.lt(q.a.t, hi)));
+                    q
+                }
+                Some(p) => {
+                    let a = pick(s, s.ge(p.a.t, q.a.t), p.a, q.a);
+                    let b = pick(s, s.le(p.b.t, q.b.t), p.b, q.b);
+                    alive = s.and(alive, s.gt(s.sub(b.t, a.t), tol));
+                    SpanLanes { a, b }
+                }
+            });
+            if !s.any(alive) {
+                break;
+            }
+        }
+        let (Some(mut cur), true) = (cur, s.any(alive)) else {
+            let z0 = End {
+                t: lo,
+                body: lo,
+                face: lo,
+            };
+            return (SpanLanes { a: z0, b: z0 }, s.none(), s.none());
+        };
+        let mut split = s.none();
+        for &b in minus {
+            let mm = s.and(
+                alive,
+                box_lanes(s, &self.body_bounds[b as usize], r, cur.a.t, cur.b.t),
+            );
+            if !s.any(mm) {
+                continue;
+            }
+            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            // The segment reaches past the span's start and begins before
+            // its end.
+            let mm = s.andnot(
+                s.and(mm, g.hit),
+                s.or(s.ge(g.t0, cur.b.t), s.le(g.t1, cur.a.t)),
+            );
+            if !s.any(mm) {
+                continue;
+            }
+            let c = span(s, &g, b);
+            let start = cur.a;
+            let before = s.and(s.gt(c.a.t, start.t), s.gt(s.sub(c.a.t, start.t), tol));
+            let new_start = pick(s, s.gt(c.b.t, start.t), flip(s, c.b), start);
+            let after = s.gt(s.sub(cur.b.t, new_start.t), tol);
+            // Two spans: the lanes follow the first, which stays the
+            // zone's first span while anything of it is left (the lists
+            // would cut it by the same steps; it is longer than `tol`, so
+            // the lists never drop it untouched).
+            split = s.or(split, s.and(mm, s.and(before, after)));
+            alive = s.andnot(alive, s.andnot(s.andnot(mm, before), after));
+            cur.b = pick(s, s.and(mm, before), flip(s, c.a), cur.b);
+            cur.a = pick(s, s.andnot(s.and(mm, after), before), new_start, cur.a);
+            if !s.any(alive) {
+                break;
+            }
+        }
+        let valid = s.and(alive, s.and(s.gt(cur.b.t, lo), s.lt(cur.a.t, hi)));
+        // Where the first of two spans went, or lies before `lo`, the first
+        // span is another: the scalar code finds it.
+        (cur, valid, s.andnot(split, valid))
+    }
+}
+
+/// A body's segment in every lane as a span bounded by its faces.
+#[inline(always)]
+fn span<S: Simd>(s: S, g: &SegLanes<S>, b: u32) -> SpanLanes<S> {
+    let body = s.splat(f64::from(b));
+    SpanLanes {
+        a: End {
+            t: g.t0,
+            body,
+            face: g.f0,
+        },
+        b: End {
+            t: g.t1,
+            body,
+            face: g.f1,
+        },
+    }
+}
+
+/// `if c { x } else { y }`, lane by lane.
+#[inline(always)]
+fn pick<S: Simd>(s: S, c: S::M, x: End<S>, y: End<S>) -> End<S> {
+    End {
+        t: s.select(c, x.t, y.t),
+        body: s.select(c, x.body, y.body),
+        face: s.select(c, x.face, y.face),
+    }
+}
+
+/// The end of a subtracted body ([`crate::boolean::flipped`] of an end
+/// from a shot, which has no flip bit).
+#[inline(always)]
+fn flip<S: Simd>(s: S, e: End<S>) -> End<S> {
+    End {
+        face: s.add(e.face, s.splat(FLIP)),
+        ..e
+    }
+}

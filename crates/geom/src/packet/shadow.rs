@@ -1,0 +1,261 @@
+//! Shadow rays toward a parallel light, in packets.
+
+use super::{box_lanes, splat3, Lanes, Spill, MAX_LANES};
+use crate::lightbuf::{LightBuffer, Zones};
+use crate::prepare::{PZone, Prepared};
+use crate::simd::Simd;
+use crate::trace::Scratch;
+use sv_math::{DVec3, Ray};
+
+impl Prepared {
+    /// For each of `from` (a point, and the zone its shadow ray cannot
+    /// meet: [`Prepared::shadow_skip`]), whether an opaque region blocks
+    /// the ray from it toward the parallel light of `buf` beyond `tmin`:
+    /// [`Prepared::occluded_by`]'s answer for each, several rays at once
+    /// where the processor has vector instructions for it. `last` is the
+    /// buffer's shadow cache, as there.
+    ///
+    /// The rays of a packet share their direction. Each ray's answer is
+    /// whether any zone blocks it, which does not depend on the order the
+    /// zones are tried in: the packet tries every zone listed for any of
+    /// its rays once, on all its rays not yet blocked. A zone that the
+    /// buffer does not list for a ray cannot block it, so trying it there
+    /// changes nothing.
+    pub fn occluded_toward(
+        &self,
+        buf: &LightBuffer,
+        from: &[(DVec3, Option<u32>)],
+        tmin: f64,
+        last: &mut Option<u32>,
+        s: &mut Scratch,
+        out: &mut Vec<bool>,
+    ) {
+        out.clear();
+        out.resize(from.len(), false);
+        #[cfg(target_arch = "x86_64")]
+        if self.packets {
+            use crate::simd::{Avx2, Avx512};
+            if let Some(t) = Avx512::detect() {
+                // SAFETY: the token proves the processor has AVX-512F.
+                return unsafe { occluded_avx512(self, t, buf, from, tmin, last, s, out) };
+            }
+            if let Some(t) = Avx2::detect() {
+                // SAFETY: the token proves the processor has AVX2.
+                return unsafe { occluded_avx2(self, t, buf, from, tmin, last, s, out) };
+            }
+        }
+        for (o, &(p, skip)) in out.iter_mut().zip(from) {
+            let ray = buf.shadow_ray(p);
+            *o = self.occluded_by(buf, &ray, tmin, f64::INFINITY, skip, last, s);
+        }
+    }
+
+    /// [`Prepared::occluded_toward`] in packets of `S::LANES` rays.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn occluded_in_packets<S: Simd>(
+        &self,
+        s: S,
+        buf: &LightBuffer,
+        from: &[(DVec3, Option<u32>)],
+        tmin: f64,
+        last: &mut Option<u32>,
+        sc: &mut Scratch,
+        out: &mut [bool],
+    ) {
+        let along = buf.shadow_ray(DVec3::ZERO);
+        let (d, inv) = (splat3(s, along.dir), splat3(s, along.inv_dir));
+        for (chunk, out) in from.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
+            // A short last packet repeats its last ray in the lanes left.
+            let mut v = [[0.0; MAX_LANES]; 4];
+            for j in 0..S::LANES {
+                let (p, skip) = chunk[j.min(chunk.len() - 1)];
+                v[0][j] = p.x;
+                v[1][j] = p.y;
+                v[2][j] = p.z;
+                v[3][j] = skip.map_or(-1.0, f64::from);
+            }
+            let r = Lanes::<S> {
+                o: [s.load(&v[0]), s.load(&v[1]), s.load(&v[2])],
+                d,
+                inv,
+            };
+            let skip = s.load(&v[3]);
+            sc.packet = sc.packet.wrapping_add(1);
+            if sc.packet == 0 {
+                sc.tested.iter_mut().for_each(|t| *t = 0);
+                sc.packet = 1;
+            }
+            let active = (1u32 << chunk.len()) - 1;
+            let (mut blocked, mut blocker) = (0, None);
+            // The zone that blocked the last shadow ray first: neighbouring
+            // points are mostly shadowed by the same zone. (No closure for
+            // the zone's test: its intrinsics would stay calls.)
+            if let Some(zi) = *last {
+                sc.tested[zi as usize] = sc.packet;
+                let b = self.blocks(s, zi, &r, chunk, active, skip, tmin, sc);
+                if b != 0 {
+                    (blocked, blocker) = (b, Some(zi));
+                }
+            }
+            for (j, &(p, skip_j)) in chunk.iter().enumerate() {
+                if blocked & (1 << j) != 0 {
+                    continue;
+                }
+                let Some(cands) = buf.zones_at(p) else {
+                    // A point that is not a number: the full search decides.
+                    if self.occluded(&buf.shadow_ray(p), tmin, f64::INFINITY, skip_j, sc) {
+                        blocked |= 1 << j;
+                    }
+                    continue;
+                };
+                for zi in self.unbounded_opaque.iter().copied().chain(cands.all()) {
+                    if sc.tested[zi as usize] == sc.packet {
+                        continue;
+                    }
+                    sc.tested[zi as usize] = sc.packet;
+                    let b = self.blocks(s, zi, &r, chunk, active & !blocked, skip, tmin, sc);
+                    if b != 0 {
+                        (blocked, blocker) = (blocked | b, Some(zi));
+                        if b & (1 << j) != 0 {
+                            break;
+                        }
+                    }
+                }
+            }
+            *last = if blocked != 0 { blocker } else { None };
+            for (j, o) in out.iter_mut().enumerate() {
+                *o = blocked & (1 << j) != 0;
+            }
+        }
+    }
+
+    /// The lanes of `mask` whose shadow rays zone `zi` blocks beyond `tmin`
+    /// (not those that skip it): [`Prepared::any_opaque`]'s test of one
+    /// zone, in the lanes where the zone allows it, else by the scalar code.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn blocks<S: Simd>(
+        &self,
+        s: S,
+        zi: u32,
+        r: &Lanes<S>,
+        from: &[(DVec3, Option<u32>)],
+        mask: u32,
+        skip: S::F,
+        tmin: f64,
+        sc: &mut Scratch,
+    ) -> u32 {
+        if mask == 0 {
+            return 0;
+        }
+        let z = &self.zones[zi as usize];
+        let (lo, hi) = (s.splat(tmin), s.splat(f64::INFINITY));
+        let m = s.andnot(s.mask(mask), s.eq(skip, s.splat(f64::from(zi))));
+        let m = s.and(m, box_lanes(s, &z.bounds, r, lo, hi));
+        if !s.any(m) {
+            return 0;
+        }
+        let (mut found, scalar) = if z.lanes {
+            let (_, valid, scalar) = self.zone_lanes(s, z, r, m, lo, hi);
+            (s.bits(valid), s.bits(scalar))
+        } else {
+            (0, s.bits(m))
+        };
+        if scalar != 0 {
+            found |= self.blocks_one_by_one(z, from, scalar, tmin, r_dir(s, r), sc);
+        }
+        found
+    }
+
+    /// [`Prepared::blocks`] for the lanes of `lanes`, one ray at a time.
+    #[inline(never)]
+    fn blocks_one_by_one(
+        &self,
+        z: &PZone,
+        from: &[(DVec3, Option<u32>)],
+        lanes: u32,
+        tmin: f64,
+        (dir, inv_dir): (DVec3, DVec3),
+        sc: &mut Scratch,
+    ) -> u32 {
+        let mut found = 0;
+        for (j, &(origin, _)) in from.iter().enumerate() {
+            if lanes & (1 << j) == 0 {
+                continue;
+            }
+            let ray = Ray {
+                origin,
+                dir,
+                inv_dir,
+            };
+            sc.new_ray();
+            if self.zone_spans(z, &ray, tmin, f64::INFINITY, sc) {
+                found |= 1 << j;
+            }
+        }
+        found
+    }
+}
+
+/// The direction shared by a packet's lanes (shadow rays toward a
+/// parallel light), and its reciprocal, from the first lane.
+#[inline(always)]
+fn r_dir<S: Simd>(s: S, r: &Lanes<S>) -> (DVec3, DVec3) {
+    let (d, inv) = (
+        [
+            Spill::of(s, r.d[0]),
+            Spill::of(s, r.d[1]),
+            Spill::of(s, r.d[2]),
+        ],
+        [
+            Spill::of(s, r.inv[0]),
+            Spill::of(s, r.inv[1]),
+            Spill::of(s, r.inv[2]),
+        ],
+    );
+    (
+        DVec3::new(d[0].0[0], d[1].0[0], d[2].0[0]),
+        DVec3::new(inv[0].0[0], inv[1].0[0], inv[2].0[0]),
+    )
+}
+
+/// [`Prepared::occluded_in_packets`] compiled for AVX-512.
+///
+/// # Safety
+/// The processor must have AVX-512F (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+pub(super) unsafe fn occluded_avx512(
+    p: &Prepared,
+    t: crate::simd::Avx512,
+    buf: &LightBuffer,
+    from: &[(DVec3, Option<u32>)],
+    tmin: f64,
+    last: &mut Option<u32>,
+    s: &mut Scratch,
+    out: &mut [bool],
+) {
+    p.occluded_in_packets(t, buf, from, tmin, last, s, out)
+}
+
+/// [`Prepared::occluded_in_packets`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must have AVX2 (the token's existence proves it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+pub(super) unsafe fn occluded_avx2(
+    p: &Prepared,
+    t: crate::simd::Avx2,
+    buf: &LightBuffer,
+    from: &[(DVec3, Option<u32>)],
+    tmin: f64,
+    last: &mut Option<u32>,
+    s: &mut Scratch,
+    out: &mut [bool],
+) {
+    p.occluded_in_packets(t, buf, from, tmin, last, s, out)
+}

@@ -1,0 +1,608 @@
+//! The packet tracer held to the scalar tracer, bit for bit.
+
+use super::primary::*;
+use super::shadow::*;
+use super::*;
+use crate::simd::Portable;
+use crate::{Body, BodyKind, Geometry, LightBuffer, Op, PrepareOptions, Region, Term, Zone};
+use rand::{Rng, SeedableRng};
+use sv_math::{DVec3, RayGen};
+
+/// Bodies of every kind the lanes cast, about the origin, and a few
+/// they do not (a torus, a general cone), with flush faces among them.
+fn bodies(rng: &mut impl Rng) -> Vec<Body> {
+    let mut out = Vec::new();
+    let v = |r: &mut dyn FnMut() -> f64| [r(), r(), r()];
+    for i in 0..48 {
+        let mut u = || rng.gen_range(-1.0..1.0);
+        let p = v(&mut u);
+        let (kind, params): (BodyKind, Vec<f64>) = match i % 16 {
+            0 => (BodyKind::Sph, vec![p[0], p[1], p[2], 0.3 + 0.5 * u().abs()]),
+            1 => (
+                BodyKind::Rcc,
+                [p.to_vec(), v(&mut u).to_vec(), vec![0.25]].concat(),
+            ),
+            // Along an axis: rays parallel to it and through its ends.
+            2 => (BodyKind::Rcc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.4]),
+            3 => (
+                BodyKind::Trc,
+                [p.to_vec(), v(&mut u).to_vec(), vec![0.5, 0.1]].concat(),
+            ),
+            4 => (
+                BodyKind::Trc,
+                [p.to_vec(), v(&mut u).to_vec(), vec![0.1, 0.6]].concat(),
+            ),
+            5 => (BodyKind::Rpp, vec![-0.5, 0.5, -0.5, 0.5, -0.5, 0.5]),
+            6 => {
+                let q = v(&mut u);
+                (
+                    BodyKind::Rpp,
+                    vec![
+                        q[0].min(p[0]),
+                        q[0].max(p[0]),
+                        q[1].min(p[1]),
+                        q[1].max(p[1]),
+                        -0.5,
+                        0.5,
+                    ],
+                )
+            }
+            7 => (
+                BodyKind::Ell1,
+                [p.to_vec(), v(&mut u).to_vec(), vec![0.3]].concat(),
+            ),
+            8 => (
+                BodyKind::Box,
+                [
+                    p.to_vec(),
+                    vec![0.6, 0.3, 0.0, -0.3, 0.6, 0.0, 0.0, 0.0, 0.7],
+                ]
+                .concat(),
+            ),
+            9 => (
+                BodyKind::Raw,
+                [
+                    p.to_vec(),
+                    vec![0.8, 0.0, 0.0, 0.0, 0.6, 0.0, 0.0, 0.0, 0.5],
+                ]
+                .concat(),
+            ),
+            10 => (BodyKind::Haf, vec![0.0, 0.0, 1.0, -0.2]),
+            11 => (
+                BodyKind::Arb8,
+                vec![
+                    -0.6, -0.6, -0.6, 0.6, -0.6, -0.6, 0.6, 0.6, -0.6, -0.6, 0.6, -0.6, -0.3, -0.3,
+                    0.6, 0.3, -0.3, 0.6, 0.3, 0.3, 0.6, -0.3, 0.3, 0.6,
+                ],
+            ),
+            12 => (
+                BodyKind::Tor,
+                vec![p[0], p[1], p[2], 0.0, 0.0, 1.0, 0.5, 0.15],
+            ),
+            13 => (
+                BodyKind::Tgc,
+                [
+                    p.to_vec(),
+                    vec![0.0, 0.0, 0.8, 0.5, 0.0, 0.0, 0.0, 0.3, 0.0, 0.2, 0.25],
+                ]
+                .concat(),
+            ),
+            14 => (
+                BodyKind::Tec,
+                [
+                    p.to_vec(),
+                    vec![0.0, 0.1, 0.9, 0.4, 0.0, 0.0, 0.0, 0.25, 0.0, 1.5],
+                ]
+                .concat(),
+            ),
+            _ => (
+                BodyKind::Rec,
+                [
+                    p.to_vec(),
+                    vec![0.9, 0.0, 0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.2],
+                ]
+                .concat(),
+            ),
+        };
+        out.push(Body::new(format!("b{i}"), kind, params));
+    }
+    out
+}
+
+/// Zones of random bodies, or zones made to sit on the tolerances
+/// (apart, so that the random ones do not hide them): `+` and `-`
+/// bodies flush with each other, a body less itself, cones whose
+/// generators the rays below run along.
+fn geometry(rng: &mut impl Rng, made_only: bool) -> Geometry {
+    let mut g = Geometry {
+        bodies: bodies(rng),
+        ..Default::default()
+    };
+    let n = g.bodies.len();
+    let edge: [(BodyKind, Vec<f64>); 8] = [
+        (BodyKind::Rpp, vec![0.5, 1.5, -0.5, 0.5, -0.5, 0.5]),
+        (BodyKind::Rpp, vec![-0.5, 0.0, -0.5, 0.5, -0.5, 0.5]),
+        (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.6, 0.2]),
+        (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.2, 0.6]),
+        (BodyKind::Rcc, vec![0.0, 0.0, -0.5, 0.0, 0.0, 1.0, 0.5]),
+        (BodyKind::Sph, vec![0.0, 0.0, 0.0, 0.5]),
+        // The cube's halves as polyhedra: their faces' distances come
+        // out a few units in the last place off the box's.
+        (
+            BodyKind::Box,
+            vec![
+                -0.5, -0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+            ],
+        ),
+        (
+            BodyKind::Box,
+            vec![0.0, -0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+        ),
+    ];
+    for (i, (kind, params)) in edge.into_iter().enumerate() {
+        g.bodies.push(Body::new(format!("e{i}"), kind, params));
+    }
+    let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
+    let (low, high) = (n + 6, n + 7);
+    let zone = |plus: &[usize], minus: &[usize]| Zone {
+        terms: plus
+            .iter()
+            .map(|&body| Term {
+                op: Op::Inside,
+                body,
+            })
+            .chain(minus.iter().map(|&body| Term {
+                op: Op::Outside,
+                body,
+            }))
+            .collect(),
+    };
+    let made = [
+        zone(&[cube, flush], &[]),
+        zone(&[cube], &[flush]),
+        zone(&[cube], &[half]),
+        zone(&[cube, half], &[]),
+        zone(&[cube], &[cube]),
+        zone(&[cone], &[]),
+        zone(&[cup], &[cyl]),
+        zone(&[cyl], &[ball]),
+        zone(&[ball], &[cyl]),
+        zone(&[cube], &[cone, ball]),
+        zone(&[cube], &[low]),
+        zone(&[cube], &[high]),
+        zone(&[cube, low], &[]),
+        zone(&[low], &[half]),
+        zone(&[cube], &[high, low]),
+    ];
+    for (r, z) in made.into_iter().enumerate() {
+        g.regions.push(Region {
+            name: format!("m{r}"),
+            zones: vec![z],
+        });
+    }
+    if made_only {
+        return g;
+    }
+    for r in 0..60 {
+        let zones = (0..1 + usize::from(r % 7 == 0))
+            .map(|_| {
+                let plus: Vec<usize> = (0..1 + usize::from(rng.gen_bool(0.3)))
+                    .map(|_| rng.gen_range(0..n))
+                    .collect();
+                let minus: Vec<usize> = (0..rng.gen_range(0..4))
+                    .map(|_| rng.gen_range(0..n))
+                    .collect();
+                zone(&plus, &minus)
+            })
+            .collect();
+        g.regions.push(Region {
+            name: format!("r{r}"),
+            zones,
+        });
+    }
+    g
+}
+
+/// Rays for one batch: a pinhole's from one eye, or an orthographic
+/// view's; some along the axes from points on the faces of the boxes
+/// (rays in face planes, infinite reciprocals), some along a
+/// generator of the cones.
+fn rays(rng: &mut impl Rng, batch: usize) -> (Vec<Ray>, DVec3, Option<DVec3>) {
+    let mut u = |a: f64| rng.gen_range(-a..a);
+    let eye = DVec3::new(u(3.0), u(3.0), u(3.0));
+    let on_face = [-0.5, 0.0, 0.5, 1.5];
+    let axis = [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z][batch % 4];
+    let rays: Vec<Ray> = match batch % 5 {
+        // Parallel rays along an axis, from points on the boxes' faces.
+        0 => (0..37)
+            .map(|i| {
+                let mut p = DVec3::new(on_face[i % 4], on_face[(i / 4) % 4], on_face[(i / 3) % 4]);
+                if i % 5 == 4 {
+                    p += DVec3::new(u(0.7), u(0.7), u(0.7));
+                }
+                // Through the boxes' edges, entering two faces at once.
+                if i % 5 == 3 {
+                    let c = on_face[i % 4];
+                    let diagonal = [DVec3::new(1.0, 1.0, 0.0), DVec3::ONE][i % 2];
+                    return Ray::new(DVec3::new(c, c, c * diagonal.z) - diagonal * 2.0, diagonal);
+                }
+                // On the plane 4 behind the origin.
+                Ray::new(p - axis * (axis.dot(p) + 4.0), axis)
+            })
+            .collect(),
+        // Along the generators of the two cones, x = ±0.4 per 2 up.
+        1 => (0..37)
+            .map(|i| {
+                let dir = DVec3::new(if i % 2 == 0 { -0.4 } else { 0.4 }, 0.0, 2.0);
+                let o = DVec3::new(u(0.8), u(0.8), -3.0);
+                Ray::new(o, dir)
+            })
+            .collect(),
+        2 => {
+            let view = (DVec3::ZERO - eye).normalize();
+            (0..37)
+                .map(|_| {
+                    let j = DVec3::new(u(1.0), u(1.0), u(1.0));
+                    Ray::new(eye + (j - view * j.dot(view)) * 1.5, view)
+                })
+                .collect()
+        }
+        _ => {
+            let view = (DVec3::ZERO - eye).normalize();
+            (0..37)
+                .map(|_| Ray::new(eye, view + DVec3::new(u(0.6), u(0.6), u(0.6))))
+                .collect()
+        }
+    };
+    // An orthographic view's entry bounds are measured from the plane of
+    // its rays' origins.
+    let ortho = batch % 5 < 3;
+    let dir = rays[0].dir;
+    let eye = if ortho { rays[0].origin } else { eye };
+    (rays, eye, ortho.then_some(dir))
+}
+
+/// One way of tracing a batch of rays into a list of hits.
+type Tracer<'a> = dyn FnMut(&mut [(u32, Hit)]) -> usize + 'a;
+
+/// Bit-for-bit equality of two hit lists.
+fn same(a: &[(u32, Hit)], b: &[(u32, Hit)]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|((ka, x), (kb, y))| {
+            ka == kb
+                && x.t.to_bits() == y.t.to_bits()
+                && x.bound.t.to_bits() == y.bound.t.to_bits()
+                && x.bound.body == y.bound.body
+                && x.bound.face_flip() == y.bound.face_flip()
+                && (x.region, x.zone, x.inside) == (y.region, y.zone, y.inside)
+        })
+}
+
+#[test]
+fn packets_find_the_hits_of_rays_traced_one_by_one() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+    let (mut lanes_zones, mut other_zones, mut hits, mut rays_cast) = (0, 0, 0, 0);
+    for i in 0..8 {
+        let g = geometry(&mut rng, i % 2 == 0);
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        lanes_zones += p.zones.iter().filter(|z| z.lanes).count();
+        other_zones += p.zones.iter().filter(|z| !z.lanes).count();
+        let all: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut s = Scratch::new(&p);
+        let (mut sorted, mut one, mut many) = (Vec::new(), Vec::new(), Vec::new());
+        for batch in 0..100 {
+            let (rays, eye, parallel) = rays(&mut rng, batch);
+            // The rays along the axes, through edges and along the
+            // generators share no plane of origins: their list is every
+            // zone from the lowest entry.
+            if batch % 5 < 2 {
+                sorted.clear();
+                sorted.extend(all.iter().map(|&z| (f64::NEG_INFINITY, z)));
+            } else {
+                p.by_distance(&all, eye, parallel, &mut sorted);
+            }
+            let tmin = if batch % 7 == 3 { 0.5 } else { 0.0 };
+            one.clear();
+            one.resize(rays.len(), (0, Hit::NONE));
+            let n = p.hits_one_by_one(&sorted, &rays, tmin, f64::INFINITY, &mut s, &mut one);
+            one.truncate(n);
+            hits += n;
+            rays_cast += rays.len();
+            // Every way of tracing them: the tile's list and the
+            // hierarchy, ray by ray and in packets of every width.
+            let inf = f64::INFINITY;
+            let mut check = |how: &str, trace: &mut Tracer| {
+                many.clear();
+                many.resize(rays.len(), (0, Hit::NONE));
+                let m = trace(&mut many);
+                assert!(same(&one, &many[..m]), "{how}, batch {batch}");
+            };
+            check("list, four portable lanes", &mut |o| {
+                p.rays_in_packets(Portable, Some(&sorted), &rays, tmin, inf, &mut s, o)
+            });
+            check("walk, ray by ray", &mut |o| {
+                p.walk_one_by_one(&rays, tmin, inf, &mut s, o)
+            });
+            check("walk, four portable lanes", &mut |o| {
+                p.rays_in_packets(Portable, None, &rays, tmin, inf, &mut s, o)
+            });
+            #[cfg(target_arch = "x86_64")]
+            {
+                // SAFETY (all four): the tokens prove the instructions
+                // are there.
+                if let Some(t) = crate::simd::Avx512::detect() {
+                    check("list, AVX-512", &mut |o| unsafe {
+                        rays_avx512(&p, t, Some(&sorted), &rays, tmin, inf, &mut s, o)
+                    });
+                    check("walk, AVX-512", &mut |o| unsafe {
+                        rays_avx512(&p, t, None, &rays, tmin, inf, &mut s, o)
+                    });
+                }
+                if let Some(t) = crate::simd::Avx2::detect() {
+                    check("list, AVX2", &mut |o| unsafe {
+                        rays_avx2(&p, t, Some(&sorted), &rays, tmin, inf, &mut s, o)
+                    });
+                    check("walk, AVX2", &mut |o| unsafe {
+                        rays_avx2(&p, t, None, &rays, tmin, inf, &mut s, o)
+                    });
+                }
+            }
+        }
+    }
+    // Zones in lanes and zones left to the scalar code were both met,
+    // and many rays hit.
+    assert!(
+        lanes_zones > 100 && other_zones > 20,
+        "{lanes_zones} {other_zones}"
+    );
+    assert!(hits * 3 > rays_cast, "{hits} of {rays_cast}");
+}
+
+#[test]
+fn shadow_packets_agree_with_shadow_rays_one_by_one() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+    let (mut blocked, mut tested) = (0, 0);
+    for i in 0..8 {
+        let g = geometry(&mut rng, i % 2 == 0);
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let all: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut s = Scratch::new(&p);
+        let (mut sorted, mut hits, mut one, mut many) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for batch in 0..40 {
+            // Points on surfaces (with the zones their shadow rays
+            // skip), from the first hits of a batch of rays, and a few
+            // points in the open.
+            let (rays, eye, parallel) = rays(&mut rng, batch + 2);
+            p.by_distance(&all, eye, parallel, &mut sorted);
+            hits.clear();
+            hits.resize(rays.len(), (0, Hit::NONE));
+            let n = p.hits_one_by_one(&sorted, &rays, 0.0, f64::INFINITY, &mut s, &mut hits);
+            let mut from: Vec<(DVec3, Option<u32>)> = hits[..n]
+                .iter()
+                .map(|(k, h)| (rays[*k as usize].at(h.t), p.shadow_skip(h)))
+                .collect();
+            from.extend((0..5).map(|_| {
+                (
+                    DVec3::new(
+                        rng.gen_range(-1.5..1.5),
+                        rng.gen_range(-1.5..1.5),
+                        rng.gen_range(-1.5..1.5),
+                    ),
+                    None,
+                )
+            }));
+            // The sun along an axis now and then: shadow rays in face
+            // planes, infinite reciprocals.
+            let toward = if batch % 4 == 0 {
+                [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z][batch / 4 % 4]
+            } else {
+                DVec3::new(
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                )
+            };
+            let lb = LightBuffer::new(&p, toward);
+            let tmin = 10.0 * p.tol;
+            let mut last = None;
+            one.clear();
+            one.extend(from.iter().map(|&(o, skip)| {
+                p.occluded_by(
+                    &lb,
+                    &lb.shadow_ray(o),
+                    tmin,
+                    f64::INFINITY,
+                    skip,
+                    &mut last,
+                    &mut s,
+                )
+            }));
+            blocked += one.iter().filter(|&&b| b).count();
+            tested += one.len();
+            many.clear();
+            many.resize(from.len(), false);
+            p.occluded_in_packets(Portable, &lb, &from, tmin, &mut last, &mut s, &mut many);
+            assert_eq!(one, many, "four portable lanes, batch {batch}");
+            #[cfg(target_arch = "x86_64")]
+            {
+                if let Some(t) = crate::simd::Avx512::detect() {
+                    // SAFETY: the token proves the instructions are there.
+                    unsafe {
+                        occluded_avx512(&p, t, &lb, &from, tmin, &mut last, &mut s, &mut many)
+                    };
+                    assert_eq!(one, many, "AVX-512, batch {batch}");
+                }
+                if let Some(t) = crate::simd::Avx2::detect() {
+                    // SAFETY: as above.
+                    unsafe { occluded_avx2(&p, t, &lb, &from, tmin, &mut last, &mut s, &mut many) };
+                    assert_eq!(one, many, "AVX2, batch {batch}");
+                }
+            }
+        }
+    }
+    // Both answers were common.
+    assert!(
+        blocked * 5 > tested && blocked * 5 < 4 * tested,
+        "{blocked} of {tested}"
+    );
+}
+
+#[test]
+fn tiles_of_the_raster_find_the_hits_and_rays_of_pixels_traced_one_by_one() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(21);
+    let (mut hits_seen, mut pixels) = (0, 0);
+    for i in 0..4 {
+        let g = geometry(&mut rng, i % 2 == 0);
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let all: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut s = Scratch::new(&p);
+        let mut sorted = Vec::new();
+        for view in 0..12 {
+            // A camera from outside the model or inside it, perspective or
+            // orthographic, on a raster whose tiles end short at the edges.
+            let eye = DVec3::new(
+                rng.gen_range(-3.0..3.0),
+                rng.gen_range(-3.0..3.0),
+                rng.gen_range(-3.0..3.0),
+            );
+            let forward = (DVec3::new(0.1, -0.2, 0.05) - eye).normalize();
+            let (r, u) = sv_math::orthonormal_basis(forward);
+            let ortho = view % 3 == 0;
+            let half = if ortho { 1.5 } else { 0.6 };
+            let (w, h) = (37, 29);
+            let gen = RayGen::new(eye, r * half * 1.2, u * half, forward, ortho, w, h);
+            p.by_distance(&all, eye, ortho.then_some(forward), &mut sorted);
+            let tiles = [
+                Tile {
+                    x0: 0,
+                    x1: 16,
+                    y0: 0,
+                    y1: 16,
+                },
+                Tile {
+                    x0: 32,
+                    x1: 37,
+                    y0: 16,
+                    y1: 29,
+                },
+                Tile {
+                    x0: 16,
+                    x1: 32,
+                    y0: 27,
+                    y1: 29,
+                },
+                Tile {
+                    x0: 3,
+                    x1: 4,
+                    y0: 5,
+                    y1: 6,
+                },
+            ];
+            for tile in tiles {
+                for zones in [Some(&sorted[..]), None] {
+                    let (mut want, mut want_rays) = (
+                        vec![(0, Hit::NONE); tile.len()],
+                        vec![gen.along; tile.len()],
+                    );
+                    let n = p.tile_one_by_one(
+                        &gen,
+                        tile,
+                        zones,
+                        0.0,
+                        f64::INFINITY,
+                        &mut s,
+                        &mut want,
+                        &mut want_rays,
+                    );
+                    hits_seen += n;
+                    pixels += tile.len();
+                    // Each pixel's ray is `gen.ray` through its centre.
+                    for ((k, _), ray) in want[..n].iter().zip(&want_rays) {
+                        let (x, y) = (
+                            tile.x0 + *k as usize % (tile.x1 - tile.x0),
+                            tile.y0 + *k as usize / (tile.x1 - tile.x0),
+                        );
+                        assert_eq!(*ray, gen.ray(x as f64 + 0.5, y as f64 + 0.5));
+                    }
+                    let check = |how: &str, got: &[(u32, Hit)], got_rays: &[Ray]| {
+                        // The same hits and rays, in the packets' order.
+                        let mut got: Vec<_> = got.iter().zip(got_rays).collect();
+                        got.sort_by_key(|((k, _), _)| *k);
+                        let (hits, rays): (Vec<(u32, Hit)>, Vec<Ray>) =
+                            got.into_iter().map(|(h, r)| (*h, *r)).unzip();
+                        assert!(same(&want[..n], &hits), "{how}, view {view}, {tile:?}");
+                        assert!(
+                            rays.iter()
+                                .zip(&want_rays)
+                                .all(|(a, b)| Ray::coordinates(&[*a])
+                                    .iter()
+                                    .zip(Ray::coordinates(&[*b]))
+                                    .all(|(x, y)| x.to_bits() == y.to_bits())),
+                            "{how} rays, view {view}, {tile:?}"
+                        );
+                    };
+                    let (mut got, mut got_rays) = (
+                        vec![(0, Hit::NONE); tile.len()],
+                        vec![gen.along; tile.len()],
+                    );
+                    let m = p.tile_in_packets(
+                        Portable,
+                        &gen,
+                        tile,
+                        zones,
+                        0.0,
+                        f64::INFINITY,
+                        &mut s,
+                        &mut got,
+                        &mut got_rays,
+                    );
+                    check("four portable lanes", &got[..m], &got_rays[..m]);
+                    #[cfg(target_arch = "x86_64")]
+                    {
+                        // SAFETY (both): the tokens prove the instructions
+                        // are there.
+                        if let Some(t) = crate::simd::Avx512::detect() {
+                            let m = unsafe {
+                                tile_avx512(
+                                    &p,
+                                    t,
+                                    &gen,
+                                    tile,
+                                    zones,
+                                    0.0,
+                                    f64::INFINITY,
+                                    &mut s,
+                                    &mut got,
+                                    &mut got_rays,
+                                )
+                            };
+                            check("AVX-512", &got[..m], &got_rays[..m]);
+                        }
+                        if let Some(t) = crate::simd::Avx2::detect() {
+                            let m = unsafe {
+                                tile_avx2(
+                                    &p,
+                                    t,
+                                    &gen,
+                                    tile,
+                                    zones,
+                                    0.0,
+                                    f64::INFINITY,
+                                    &mut s,
+                                    &mut got,
+                                    &mut got_rays,
+                                )
+                            };
+                            check("AVX2", &got[..m], &got_rays[..m]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        hits_seen * 5 > pixels,
+        "{hits_seen} hits of {pixels} pixels"
+    );
+}

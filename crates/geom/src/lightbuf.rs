@@ -236,13 +236,24 @@ impl LightBuffer {
     }
 }
 
-impl sealed::Zones for LightBuffer {
-    /// The bounded zones a shadow ray from `p` may meet: the large ones
-    /// and those of `p`'s cell (none off the grid) that reach past `p`, or
-    /// `None` when `p` is not a number.
-    fn zones_at(&self, p: DVec3) -> Option<Candidates<'_>> {
+/// Where a shadow ray toward a parallel light starts, on its buffer's grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Place {
+    /// Its origin is not a number.
+    Nowhere,
+    /// Off the grid.
+    Off,
+    /// In this cell.
+    Cell(u32),
+}
+
+impl LightBuffer {
+    /// The place of the shadow ray from `p`, and how far `p` lies along the
+    /// light's direction.
+    #[inline]
+    pub(crate) fn place(&self, p: DVec3) -> (Place, f64) {
         if p.is_nan() {
-            return None;
+            return (Place::Nowhere, f64::NAN);
         }
         let depth = p.dot(self.dir);
         let (a, b) = (p.dot(self.u), p.dot(self.v));
@@ -254,20 +265,39 @@ impl sealed::Zones for LightBuffer {
         // go through `u32`, which converts in one or two instructions
         // where `usize` takes a dozen.
         let (nu, nv) = (self.nu as u32, self.nv as u32);
-        // Zones that do not reach past the origin lie behind the ray.
         if !(fa >= 0.0 && fb >= 0.0 && fa < f64::from(nu) && fb < f64::from(nv)) {
-            return Some(Candidates::only(
-                &self.big[prefix(&self.big_far, |f| f < depth)..],
-            ));
+            return (Place::Off, depth);
         }
-        let c = (fb as u32 * nu + fa as u32) as usize;
-        let cell = self.start[c] as usize..self.start[c + 1] as usize;
-        Some(Candidates {
+        (Place::Cell(fb as u32 * nu + fa as u32), depth)
+    }
+
+    /// The bounded zones that shadow rays from `place` may meet when they
+    /// start no nearer the light than `depth`: the large ones and those of
+    /// the cell (none off the grid) that reach past it. (A zone that does
+    /// not reach past a ray's origin lies behind the ray.)
+    #[inline]
+    pub(crate) fn candidates(&self, place: Place, depth: f64) -> Candidates<'_> {
+        let Place::Cell(c) = place else {
+            return Candidates::only(&self.big[prefix(&self.big_far, |f| f < depth)..]);
+        };
+        let cell = self.start[c as usize] as usize..self.start[c as usize + 1] as usize;
+        Candidates {
             big: &self.loose[prefix(&self.loose_far, |f| f < depth)..],
             cell: &self.items[cell.clone()],
             keys: &self.short[cell],
             bound: -depth,
-        })
+        }
+    }
+}
+
+impl sealed::Zones for LightBuffer {
+    /// The bounded zones a shadow ray from `p` may meet
+    /// ([`LightBuffer::candidates`]), or `None` when `p` is not a number.
+    fn zones_at(&self, p: DVec3) -> Option<Candidates<'_>> {
+        match self.place(p) {
+            (Place::Nowhere, _) => None,
+            (place, depth) => Some(self.candidates(place, depth)),
+        }
     }
 
     fn check(&self, ray: &Ray) {
@@ -750,8 +780,6 @@ pub trait ShadowBuffer: sealed::Zones {}
 
 impl ShadowBuffer for LightBuffer {}
 impl ShadowBuffer for PointBuffer {}
-
-pub(crate) use sealed::Zones;
 
 /// What [`Prepared::occluded_by`] asks of a buffer, kept out of the public
 /// interface.

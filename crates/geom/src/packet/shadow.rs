@@ -1,7 +1,7 @@
 //! Shadow rays toward a parallel light, in packets.
 
 use super::{box_lanes, splat3, Lanes, Spill, MAX_LANES};
-use crate::lightbuf::{LightBuffer, Zones};
+use crate::lightbuf::{LightBuffer, Place};
 use crate::prepare::{PZone, Prepared};
 use crate::simd::Simd;
 use crate::trace::Scratch;
@@ -20,7 +20,9 @@ impl Prepared {
     /// zones are tried in: the packet tries every zone listed for any of
     /// its rays once, on all its rays not yet blocked. A zone that the
     /// buffer does not list for a ray cannot block it, so trying it there
-    /// changes nothing.
+    /// changes nothing; the rays that start in one cell ask for its list
+    /// once, for the one of them nearest the light, whose list holds the
+    /// others'.
     pub fn occluded_toward(
         &self,
         buf: &LightBuffer,
@@ -98,17 +100,40 @@ impl Prepared {
                     (blocked, blocker) = (b, Some(zi));
                 }
             }
+            // The lanes in a cell together: the cell's zones, listed for
+            // the lane nearest the light (the longest list), tried once.
+            let mut places = [(Place::Nowhere, 0.0); MAX_LANES];
+            for (place, &(p, _)) in places.iter_mut().zip(chunk) {
+                *place = buf.place(p);
+            }
+            let mut done = 0u32;
             for (j, &(p, skip_j)) in chunk.iter().enumerate() {
-                if blocked & (1 << j) != 0 {
+                if done & (1 << j) != 0 {
                     continue;
                 }
-                let Some(cands) = buf.zones_at(p) else {
+                let place = places[j].0;
+                if place == Place::Nowhere {
                     // A point that is not a number: the full search decides.
-                    if self.occluded(&buf.shadow_ray(p), tmin, f64::INFINITY, skip_j, sc) {
+                    done |= 1 << j;
+                    if blocked & (1 << j) == 0
+                        && self.occluded(&buf.shadow_ray(p), tmin, f64::INFINITY, skip_j, sc)
+                    {
                         blocked |= 1 << j;
                     }
                     continue;
-                };
+                }
+                let (mut group, mut depth) = (0u32, f64::INFINITY);
+                for (k, &(other, d)) in places.iter().enumerate().take(chunk.len()).skip(j) {
+                    if other == place {
+                        group |= 1 << k;
+                        depth = depth.min(d);
+                    }
+                }
+                done |= group;
+                if group & !blocked == 0 {
+                    continue;
+                }
+                let cands = buf.candidates(place, depth);
                 for zi in self.unbounded_opaque.iter().copied().chain(cands.all()) {
                     if sc.tested[zi as usize] == sc.packet {
                         continue;
@@ -117,7 +142,7 @@ impl Prepared {
                     let b = self.blocks(s, zi, &r, chunk, active & !blocked, skip, tmin, sc);
                     if b != 0 {
                         (blocked, blocker) = (blocked | b, Some(zi));
-                        if b & (1 << j) != 0 {
+                        if group & !blocked == 0 {
                             break;
                         }
                     }

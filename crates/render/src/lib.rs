@@ -582,6 +582,7 @@ impl Renderer {
                             &mut ws.s,
                             &mut ws.hits,
                             &mut ws.hit_rays,
+                            &mut ws.normals,
                         );
                     } else if !(few && ws.sorted.is_empty()) {
                         ws.pts.clear();
@@ -621,21 +622,22 @@ impl Renderer {
                         ws.hit_rays.clear();
                         ws.hit_rays
                             .extend(ws.hits[..found].iter().map(|(k, _)| ws.rays[*k as usize]));
+                        // The normals before any shading: the shading loop
+                        // reads a normal whole, which stalls when it was
+                        // just written a coordinate at a time.
+                        ws.normals.clear();
+                        ws.normals.extend(
+                            ws.hits[..found]
+                                .iter()
+                                .zip(&ws.hit_rays)
+                                .map(|((_, h), ray)| self.prepared.normal(h, ray)),
+                        );
                     }
                     // Then, per point light, the zones the tile's shadow
                     // rays may meet: those in the box of the tile's hit
                     // points and the light. (Parallel lights have their
                     // light buffers.)
                     let hits = &ws.hits[..found];
-                    // The normals before any shading: the shading loop
-                    // reads a normal whole, which stalls when it was just
-                    // written a coordinate at a time.
-                    ws.normals.clear();
-                    ws.normals.extend(
-                        hits.iter()
-                            .zip(&ws.hit_rays)
-                            .map(|((_, h), ray)| self.prepared.normal(h, ray)),
-                    );
                     if st.shadows && !hits.is_empty() {
                         self.shadows_toward_suns(
                             hits,

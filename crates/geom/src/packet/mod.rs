@@ -20,6 +20,7 @@ use crate::prepare::{PZone, Prepared};
 use crate::shape::Shape;
 use crate::simd::Simd;
 use crate::trace::{Hit, Scratch};
+use std::mem::MaybeUninit;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 mod primary;
@@ -103,15 +104,17 @@ impl<S: Simd> Best<S> {
     }
 
     /// Write the lanes' hits to the first places of `out` in lane order,
-    /// each with its lane's index from `index`, and their rays to the same
-    /// places of `rays` when given; the number of hits.
+    /// each with its lane's index from `index`, and, when given, their rays
+    /// and the surface normals there ([`Prepared::normal`]) to the same
+    /// places of `rays`; the number of hits.
     #[inline(always)]
     fn emit(
         &self,
+        p: &Prepared,
         s: S,
         index: &[u32; MAX_LANES],
         out: &mut [(u32, Hit)],
-        rays: Option<(&Lanes<S>, &mut [Ray])>,
+        rays: Option<(&Lanes<S>, &mut [Ray], &mut [DVec3])>,
     ) -> usize {
         let hit = s.bits(s.lt(self.region, s.splat(f64::from(u32::MAX))));
         if hit == 0 {
@@ -144,7 +147,7 @@ impl<S: Simd> Best<S> {
                 n += 1;
             }
         }
-        if let Some((r, rays)) = rays {
+        if let Some((r, rays, normals)) = rays {
             let lanes = lane_rays(s, r);
             let mut n = 0;
             for (j, ray) in lanes.iter().enumerate().take(S::LANES) {
@@ -153,8 +156,88 @@ impl<S: Simd> Best<S> {
                     n += 1;
                 }
             }
+            self.normals(p, s, r, hit, &out[..n], &lanes, normals);
         }
         n
+    }
+
+    /// The surface normals of the lanes of `hit` ([`Prepared::normal`] of
+    /// their `hits`, in lane order, and `rays`), into the first places of
+    /// `normals`: in the lanes for each body that several of them hit, one
+    /// by one for the rest.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn normals(
+        &self,
+        p: &Prepared,
+        s: S,
+        r: &Lanes<S>,
+        hit: u32,
+        hits: &[(u32, Hit)],
+        rays: &[Ray; MAX_LANES],
+        normals: &mut [DVec3],
+    ) {
+        // Written only for the lanes of `in_lanes`.
+        let mut out = [const { MaybeUninit::<Spill>::uninit() }; 3];
+        let mut in_lanes = 0;
+        // Inside a region, or on no body: facing the ray.
+        let facing = s.or(self.inside, s.eq(self.a.body, s.splat(f64::from(u32::MAX))));
+        let mut todo = hit & !s.bits(facing);
+        let mut one_by_one = hit & s.bits(facing);
+        let bodies = Spill::of(s, self.a.body);
+        while todo != 0 {
+            let body = bodies.0[todo.trailing_zeros() as usize];
+            let group = todo & s.bits(s.eq(self.a.body, s.splat(body)));
+            todo &= !group;
+            let shape = &p.shapes[body as u32 as usize];
+            // Lanes are worth it for three rays or more.
+            if group.count_ones() < 3 || !shape.has_lanes() {
+                one_by_one |= group;
+                continue;
+            }
+            // The face without the flip bit, and the lanes of subtracted
+            // bodies.
+            let flip = s.ge(self.a.face, s.splat(FLIP));
+            let face = s.select(flip, s.sub(self.a.face, s.splat(FLIP)), self.a.face);
+            let at = along(s, r.o, r.d, self.t);
+            let Some(lanes) = shape.normal_lanes(s, face, at) else {
+                one_by_one |= group;
+                continue;
+            };
+            if in_lanes == 0 {
+                for (o, l) in out.iter_mut().zip(lanes) {
+                    o.write(Spill::of(s, s.select(flip, s.neg(l), l)));
+                }
+            } else {
+                for (o, l) in out.iter_mut().zip(lanes) {
+                    let v = Spill::of(s, s.select(flip, s.neg(l), l));
+                    // SAFETY: written when the first group was.
+                    let o = unsafe { o.assume_init_mut() };
+                    for (k, x) in o.0.iter_mut().enumerate().take(S::LANES) {
+                        if group & (1 << k) != 0 {
+                            *x = v.0[k];
+                        }
+                    }
+                }
+            }
+            in_lanes |= group;
+        }
+        // The hits are in lane order: the n-th hit is the n-th lane of `hit`.
+        let mut n = 0;
+        for (j, ray) in rays.iter().enumerate().take(S::LANES) {
+            if hit & (1 << j) == 0 {
+                continue;
+            }
+            normals[n] = if in_lanes & (1 << j) != 0 {
+                // SAFETY: written for the lanes of `in_lanes`.
+                let o = unsafe { [0, 1, 2].map(|c| out[c].assume_init_ref().0[j]) };
+                DVec3::new(o[0], o[1], o[2])
+            } else {
+                p.normal(&hits[n].1, ray)
+            };
+            n += 1;
+        }
+        debug_assert_eq!(one_by_one | in_lanes, hit);
     }
 }
 
@@ -194,6 +277,13 @@ fn row<S: Simd>(s: S, a: f64, b: f64, c: f64, v: [S::F; 3]) -> S::F {
         s.add(s.mul(s.splat(a), v[0]), s.mul(s.splat(b), v[1])),
         s.mul(s.splat(c), v[2]),
     )
+}
+
+/// `v.normalize()` as glam computes it: `v` times one over its length.
+#[inline(always)]
+pub(crate) fn normalize<S: Simd>(s: S, v: [S::F; 3]) -> [S::F; 3] {
+    let r = s.div(s.splat(1.0), s.sqrt(dot(s, v, v)));
+    [s.mul(v[0], r), s.mul(v[1], r), s.mul(v[2], r)]
 }
 
 /// `p - c` in every lane.
@@ -266,6 +356,20 @@ impl Shape {
         )
     }
 
+    /// [`Shape::normal`] in every lane, at points `p` on faces `face` (as
+    /// `f64`), for the shapes of [`Shape::has_lanes`]; `None` for others.
+    #[inline(always)]
+    fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> Option<[S::F; 3]> {
+        Some(match self {
+            Shape::Sphere(b) => b.normal_lanes(s, p),
+            Shape::Ellipsoid(b) => b.normal_lanes(s, p),
+            Shape::Cone(b) => b.normal_lanes(s, face, p),
+            Shape::Rpp(b) => b.normal_lanes(s, face),
+            Shape::Polyhedron(b) => b.normal_lanes(s, face),
+            _ => return None,
+        })
+    }
+
     /// [`Shape::shoot`] for every lane, for the shapes of
     /// [`Shape::has_lanes`] (convex: one segment at most); others hit
     /// nothing here and are left to the scalar code by the caller.
@@ -294,7 +398,7 @@ impl Shape {
 /// Working values of a packet's lanes, one place per lane, for the lanes
 /// left to the scalar code.
 #[derive(Clone, Copy)]
-struct Spill([f64; MAX_LANES]);
+pub(crate) struct Spill(pub [f64; MAX_LANES]);
 
 impl Spill {
     #[inline(always)]

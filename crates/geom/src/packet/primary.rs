@@ -142,8 +142,11 @@ impl Prepared {
     /// by the same operations as `gen.ray`: no ray is made but for a hit.
     ///
     /// The hits go to the first places of `hits`, with their pixel's index
-    /// in the tile (row by row), and their rays to the same places of
-    /// `rays`; the number of hits is returned. Both are only ever grown.
+    /// in the tile (row by row), their rays to the same places of `rays`,
+    /// and the surface normals there ([`Prepared::normal`]) to those of
+    /// `normals`, computed in the lanes too for the bodies several rays of
+    /// a packet hit; the number of hits is returned. All three are only
+    /// ever grown.
     #[allow(clippy::too_many_arguments)]
     pub fn tile_hits(
         &self,
@@ -155,24 +158,32 @@ impl Prepared {
         s: &mut Scratch,
         hits: &mut Vec<(u32, Hit)>,
         rays: &mut Vec<Ray>,
+        normals: &mut Vec<DVec3>,
     ) -> usize {
         grow(hits, tile.len(), (0, Hit::NONE));
         grow(rays, tile.len(), gen.along);
+        grow(normals, tile.len(), DVec3::ZERO);
         #[cfg(target_arch = "x86_64")]
         if self.packets {
             use crate::simd::{Avx2, Avx512};
             if let Some(t) = Avx512::detect() {
                 // SAFETY: the token proves the processor has AVX-512F.
                 return unsafe {
-                    tile_avx512(self, t, gen, tile, zones, tmin, tmax, s, hits, rays)
+                    tile_avx512(
+                        self, t, gen, tile, zones, tmin, tmax, s, hits, rays, normals,
+                    )
                 };
             }
             if let Some(t) = Avx2::detect() {
                 // SAFETY: the token proves the processor has AVX2.
-                return unsafe { tile_avx2(self, t, gen, tile, zones, tmin, tmax, s, hits, rays) };
+                return unsafe {
+                    tile_avx2(
+                        self, t, gen, tile, zones, tmin, tmax, s, hits, rays, normals,
+                    )
+                };
             }
         }
-        self.tile_one_by_one(gen, tile, zones, tmin, tmax, s, hits, rays)
+        self.tile_one_by_one(gen, tile, zones, tmin, tmax, s, hits, rays, normals)
     }
 
     /// [`Prepared::tile_hits`] ray by ray.
@@ -187,6 +198,7 @@ impl Prepared {
         s: &mut Scratch,
         hits: &mut [(u32, Hit)],
         rays: &mut [Ray],
+        normals: &mut [DVec3],
     ) -> usize {
         let mut found = 0;
         for (k, (x, y)) in (tile.y0..tile.y1)
@@ -205,6 +217,7 @@ impl Prepared {
             if hit {
                 slot.0 = k as u32;
                 rays[found] = ray;
+                normals[found] = self.normal(&slot.1, &ray);
                 found += 1;
             }
         }
@@ -261,6 +274,7 @@ impl Prepared {
         sc: &mut Scratch,
         hits: &mut [(u32, Hit)],
         rays: &mut [Ray],
+        normals: &mut [DVec3],
     ) -> usize {
         let cols = S::LANES / 2;
         let width = tile.x1 - tile.x0;
@@ -301,7 +315,7 @@ impl Prepared {
                     sc,
                     &index,
                     &mut hits[found..],
-                    Some(&mut rays[found..]),
+                    Some((&mut rays[found..], &mut normals[found..])),
                 );
             }
         }
@@ -324,14 +338,20 @@ impl Prepared {
         sc: &mut Scratch,
         index: &[u32; MAX_LANES],
         out: &mut [(u32, Hit)],
-        mut rays: Option<&mut [Ray]>,
+        mut rays: Option<(&mut [Ray], &mut [DVec3])>,
     ) -> usize {
         let best = match zones {
             Some(zones) => Some(self.list_best(s, zones, r, active, tmin, tmax, sc)),
             None => self.walk_best(s, r, active, tmin, tmax, sc),
         };
         if let Some(b) = best {
-            return b.emit(s, index, out, rays.map(|rays| (r, rays)));
+            return b.emit(
+                self,
+                s,
+                index,
+                out,
+                rays.map(|(rays, normals)| (r, rays, normals)),
+            );
         }
         // A tree deeper than the walk's stack: ray by ray.
         let lanes = lane_rays(s, r);
@@ -342,8 +362,9 @@ impl Prepared {
             }
             if let Some(h) = self.first_hit(ray, tmin, tmax, sc) {
                 out[n] = (index[j], h);
-                if let Some(rays) = rays.as_deref_mut() {
+                if let Some((rays, normals)) = rays.as_mut() {
                     rays[n] = *ray;
+                    normals[n] = self.normal(&h, ray);
                 }
                 n += 1;
             }
@@ -623,8 +644,9 @@ pub(super) unsafe fn tile_avx512(
     s: &mut Scratch,
     hits: &mut [(u32, Hit)],
     rays: &mut [Ray],
+    normals: &mut [DVec3],
 ) -> usize {
-    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays)
+    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays, normals)
 }
 
 /// [`Prepared::tile_in_packets`] compiled for AVX2.
@@ -645,6 +667,7 @@ pub(super) unsafe fn tile_avx2(
     s: &mut Scratch,
     hits: &mut [(u32, Hit)],
     rays: &mut [Ray],
+    normals: &mut [DVec3],
 ) -> usize {
-    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays)
+    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays, normals)
 }

@@ -448,12 +448,94 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
     );
 }
 
+/// Surfaces of subtracted bodies in view: a cube with a ball cut from its
+/// corner, a tube, a box with a slot.
+fn hollows() -> Geometry {
+    let bodies: [(BodyKind, Vec<f64>); 6] = [
+        (BodyKind::Rpp, vec![-0.5, 0.5, -0.5, 0.5, -0.5, 0.5]),
+        (BodyKind::Sph, vec![0.5, 0.5, 0.5, 0.6]),
+        (BodyKind::Rcc, vec![-0.8, 0.0, 0.0, 1.0, 0.0, 0.0, 0.4]),
+        (BodyKind::Rcc, vec![-0.9, 0.0, 0.0, 1.2, 0.0, 0.0, 0.3]),
+        (BodyKind::Rpp, vec![0.2, 0.9, -0.9, 0.9, -0.2, 0.2]),
+        (
+            BodyKind::Box,
+            vec![0.4, -0.1, -0.5, 0.3, 0.0, 0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 1.0],
+        ),
+    ];
+    let mut g = Geometry::default();
+    for (i, (kind, params)) in bodies.into_iter().enumerate() {
+        g.bodies.push(Body::new(format!("h{i}"), kind, params));
+    }
+    for (r, (plus, minus)) in [(0, 1), (2, 3), (4, 5)].into_iter().enumerate() {
+        g.regions.push(Region {
+            name: format!("hollow{r}"),
+            zones: vec![Zone {
+                terms: vec![
+                    Term {
+                        op: Op::Inside,
+                        body: plus,
+                    },
+                    Term {
+                        op: Op::Outside,
+                        body: minus,
+                    },
+                ],
+            }],
+        });
+    }
+    g
+}
+
+/// What a tile's tracing gives: hits, their rays and their normals.
+struct Traced {
+    hits: Vec<(u32, Hit)>,
+    rays: Vec<Ray>,
+    normals: Vec<DVec3>,
+}
+
+impl Traced {
+    fn new(n: usize) -> Traced {
+        Traced {
+            hits: vec![(0, Hit::NONE); n],
+            rays: vec![Ray::new(DVec3::ZERO, DVec3::Z); n],
+            normals: vec![DVec3::ZERO; n],
+        }
+    }
+
+    /// The first `n`, in the order of the pixels.
+    fn sorted(&self, n: usize) -> Traced {
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by_key(|&i| self.hits[i].0);
+        Traced {
+            hits: order.iter().map(|&i| self.hits[i]).collect(),
+            rays: order.iter().map(|&i| self.rays[i]).collect(),
+            normals: order.iter().map(|&i| self.normals[i]).collect(),
+        }
+    }
+}
+
+/// Bit-for-bit equality of vectors.
+fn same_bits(a: &[DVec3], b: &[DVec3]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.to_array()
+                .iter()
+                .zip(y.to_array())
+                .all(|(u, v)| u.to_bits() == v.to_bits())
+        })
+}
+
 #[test]
-fn tiles_of_the_raster_find_the_hits_and_rays_of_pixels_traced_one_by_one() {
+fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_one() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(21);
     let (mut hits_seen, mut pixels) = (0, 0);
-    for i in 0..4 {
-        let g = geometry(&mut rng, i % 2 == 0);
+    let inf = f64::INFINITY;
+    for i in 0..6 {
+        let g = if i < 4 {
+            geometry(&mut rng, i % 2 == 0)
+        } else {
+            hollows()
+        };
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         let all: Vec<u32> = (0..p.zones.len() as u32).collect();
         let mut s = Scratch::new(&p);
@@ -470,94 +552,71 @@ fn tiles_of_the_raster_find_the_hits_and_rays_of_pixels_traced_one_by_one() {
             let (r, u) = sv_math::orthonormal_basis(forward);
             let ortho = view % 3 == 0;
             let half = if ortho { 1.5 } else { 0.6 };
-            let (w, h) = (37, 29);
-            let gen = RayGen::new(eye, r * half * 1.2, u * half, forward, ortho, w, h);
+            let gen = RayGen::new(eye, r * half * 1.2, u * half, forward, ortho, 37, 29);
             p.by_distance(&all, eye, ortho.then_some(forward), &mut sorted);
-            let tiles = [
-                Tile {
-                    x0: 0,
-                    x1: 16,
-                    y0: 0,
-                    y1: 16,
-                },
-                Tile {
-                    x0: 32,
-                    x1: 37,
-                    y0: 16,
-                    y1: 29,
-                },
-                Tile {
-                    x0: 16,
-                    x1: 32,
-                    y0: 27,
-                    y1: 29,
-                },
-                Tile {
-                    x0: 3,
-                    x1: 4,
-                    y0: 5,
-                    y1: 6,
-                },
-            ];
-            for tile in tiles {
+            let tile = |x0, x1, y0, y1| Tile { x0, x1, y0, y1 };
+            for tile in [
+                tile(0, 16, 0, 16),
+                tile(32, 37, 16, 29),
+                tile(16, 32, 27, 29),
+                tile(3, 4, 5, 6),
+            ] {
                 for zones in [Some(&sorted[..]), None] {
-                    let (mut want, mut want_rays) = (
-                        vec![(0, Hit::NONE); tile.len()],
-                        vec![gen.along; tile.len()],
-                    );
+                    let mut want = Traced::new(tile.len());
                     let n = p.tile_one_by_one(
                         &gen,
                         tile,
                         zones,
                         0.0,
-                        f64::INFINITY,
+                        inf,
                         &mut s,
-                        &mut want,
-                        &mut want_rays,
+                        &mut want.hits,
+                        &mut want.rays,
+                        &mut want.normals,
                     );
+                    let want = want.sorted(n);
                     hits_seen += n;
                     pixels += tile.len();
-                    // Each pixel's ray is `gen.ray` through its centre.
-                    for ((k, _), ray) in want[..n].iter().zip(&want_rays) {
-                        let (x, y) = (
-                            tile.x0 + *k as usize % (tile.x1 - tile.x0),
-                            tile.y0 + *k as usize / (tile.x1 - tile.x0),
-                        );
+                    // Each hit's ray is `gen.ray` through its pixel's centre,
+                    // and its normal the scalar tracer's.
+                    for (((k, h), ray), normal) in
+                        want.hits.iter().zip(&want.rays).zip(&want.normals)
+                    {
+                        let w = tile.x1 - tile.x0;
+                        let (x, y) = (tile.x0 + *k as usize % w, tile.y0 + *k as usize / w);
                         assert_eq!(*ray, gen.ray(x as f64 + 0.5, y as f64 + 0.5));
+                        assert!(same_bits(&[*normal], &[p.normal(h, ray)]));
                     }
-                    let check = |how: &str, got: &[(u32, Hit)], got_rays: &[Ray]| {
-                        // The same hits and rays, in the packets' order.
-                        let mut got: Vec<_> = got.iter().zip(got_rays).collect();
-                        got.sort_by_key(|((k, _), _)| *k);
-                        let (hits, rays): (Vec<(u32, Hit)>, Vec<Ray>) =
-                            got.into_iter().map(|(h, r)| (*h, *r)).unzip();
-                        assert!(same(&want[..n], &hits), "{how}, view {view}, {tile:?}");
+                    let check = |how: &str, got: &Traced, m: usize| {
+                        let got = got.sorted(m);
+                        assert!(same(&want.hits, &got.hits), "{how}, view {view}, {tile:?}");
+                        let (a, b): (Vec<f64>, Vec<f64>) = (
+                            Ray::coordinates(&want.rays).to_vec(),
+                            Ray::coordinates(&got.rays).to_vec(),
+                        );
                         assert!(
-                            rays.iter()
-                                .zip(&want_rays)
-                                .all(|(a, b)| Ray::coordinates(&[*a])
-                                    .iter()
-                                    .zip(Ray::coordinates(&[*b]))
-                                    .all(|(x, y)| x.to_bits() == y.to_bits())),
+                            a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
                             "{how} rays, view {view}, {tile:?}"
                         );
+                        assert!(
+                            same_bits(&want.normals, &got.normals),
+                            "{how} normals, view {view}, {tile:?}"
+                        );
                     };
-                    let (mut got, mut got_rays) = (
-                        vec![(0, Hit::NONE); tile.len()],
-                        vec![gen.along; tile.len()],
-                    );
+                    let mut got = Traced::new(tile.len());
                     let m = p.tile_in_packets(
                         Portable,
                         &gen,
                         tile,
                         zones,
                         0.0,
-                        f64::INFINITY,
+                        inf,
                         &mut s,
-                        &mut got,
-                        &mut got_rays,
+                        &mut got.hits,
+                        &mut got.rays,
+                        &mut got.normals,
                     );
-                    check("four portable lanes", &got[..m], &got_rays[..m]);
+                    check("four portable lanes", &got, m);
                     #[cfg(target_arch = "x86_64")]
                     {
                         // SAFETY (both): the tokens prove the instructions
@@ -571,13 +630,14 @@ fn tiles_of_the_raster_find_the_hits_and_rays_of_pixels_traced_one_by_one() {
                                     tile,
                                     zones,
                                     0.0,
-                                    f64::INFINITY,
+                                    inf,
                                     &mut s,
-                                    &mut got,
-                                    &mut got_rays,
+                                    &mut got.hits,
+                                    &mut got.rays,
+                                    &mut got.normals,
                                 )
                             };
-                            check("AVX-512", &got[..m], &got_rays[..m]);
+                            check("AVX-512", &got, m);
                         }
                         if let Some(t) = crate::simd::Avx2::detect() {
                             let m = unsafe {
@@ -588,13 +648,14 @@ fn tiles_of_the_raster_find_the_hits_and_rays_of_pixels_traced_one_by_one() {
                                     tile,
                                     zones,
                                     0.0,
-                                    f64::INFINITY,
+                                    inf,
                                     &mut s,
-                                    &mut got,
-                                    &mut got_rays,
+                                    &mut got.hits,
+                                    &mut got.rays,
+                                    &mut got.normals,
                                 )
                             };
-                            check("AVX2", &got[..m], &got_rays[..m]);
+                            check("AVX2", &got, m);
                         }
                     }
                 }

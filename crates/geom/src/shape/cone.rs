@@ -1,6 +1,6 @@
 use super::poly::roots_in;
 use super::{segments_by_classification, Seg};
-use crate::packet::{dot, mat_vec, not, sub_point, Lanes, SegLanes};
+use crate::packet::{dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
 use crate::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
@@ -305,6 +305,26 @@ impl Cone {
                     .world_normal(DVec3::new(q.x, q.y, -self.k * (1.0 + self.k * q.z)))
             }
         }
+    }
+
+    /// [`Cone::normal`] in every lane (faces held as `f64`), operation for
+    /// operation: each lane takes its face's gradient.
+    #[inline(always)]
+    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+        let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
+        let k = self.k;
+        let z = s.mul(s.splat(-k), s.add(s.splat(1.0), s.mul(s.splat(k), q[2])));
+        // `-DVec3::Z` is (-0, -0, -1): its zeros' signs kept.
+        let (base, top) = (
+            s.eq(face, s.splat(f64::from(BASE))),
+            s.eq(face, s.splat(f64::from(TOP))),
+        );
+        let g = [
+            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), q[0])),
+            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), q[1])),
+            s.select(base, s.splat(-1.0), s.select(top, s.splat(1.0), z)),
+        ];
+        normalize(s, mat_vec(s, &self.f.inv_t, g))
     }
 
     pub(crate) fn contains(&self, p: DVec3) -> bool {

@@ -147,6 +147,21 @@ impl Polyhedron {
         self.planes[face as usize].n
     }
 
+    /// [`Polyhedron::normal`] in every lane (faces held as `f64`).
+    #[inline(always)]
+    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+        let mut n = [s.splat(0.0); 3];
+        for (i, pl) in self.planes.iter().enumerate() {
+            let here = s.eq(face, s.splat(i as f64));
+            n = [
+                s.select(here, s.splat(pl.n.x), n[0]),
+                s.select(here, s.splat(pl.n.y), n[1]),
+                s.select(here, s.splat(pl.n.z), n[2]),
+            ];
+        }
+        n
+    }
+
     pub(crate) fn contains(&self, p: DVec3) -> bool {
         self.planes.iter().all(|pl| pl.n.dot(p) < pl.d)
     }

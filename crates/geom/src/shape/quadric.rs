@@ -1,5 +1,5 @@
 use super::{quadratic, Seg};
-use crate::packet::{along, dot, mat_vec, not, sub_point, Lanes, SegLanes};
+use crate::packet::{along, dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
 use crate::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
@@ -82,6 +82,13 @@ impl Ellipsoid {
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
         (self.inv_t * (self.inv * (p - self.c))).normalize()
+    }
+
+    /// [`Ellipsoid::normal`] in every lane, operation for operation.
+    #[inline(always)]
+    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
+        let q = mat_vec(s, &self.inv, sub_point(s, p, self.c));
+        normalize(s, mat_vec(s, &self.inv_t, q))
     }
 
     pub(crate) fn contains(&self, p: DVec3) -> bool {

@@ -82,6 +82,16 @@ impl Rpp {
         n
     }
 
+    /// [`Rpp::normal`] in every lane (faces held as `f64`).
+    #[inline(always)]
+    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+        [
+            unit_axis(s, face, 0.0),
+            unit_axis(s, face, 1.0),
+            unit_axis(s, face, 2.0),
+        ]
+    }
+
     pub(crate) fn contains(&self, p: DVec3) -> bool {
         p.cmpgt(self.b.min).all() && p.cmplt(self.b.max).all()
     }
@@ -89,6 +99,21 @@ impl Rpp {
     pub(crate) fn bounds(&self) -> Aabb {
         self.b
     }
+}
+
+/// One coordinate of [`Rpp::normal_lanes`]: -1 on the low face of axis
+/// `a`, 1 on its high face, else 0.
+#[inline(always)]
+fn unit_axis<S: Simd>(s: S, face: S::F, a: f64) -> S::F {
+    let (low, high) = (
+        s.eq(face, s.splat(2.0 * a)),
+        s.eq(face, s.splat(2.0 * a + 1.0)),
+    );
+    s.select(
+        low,
+        s.splat(-1.0),
+        s.select(high, s.splat(1.0), s.splat(0.0)),
+    )
 }
 
 /// The stretch of the ray inside the slabs seen so far, with the faces

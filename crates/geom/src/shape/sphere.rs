@@ -1,5 +1,5 @@
 use super::Seg;
-use crate::packet::{back, dot, not, sub_point, Lanes, SegLanes};
+use crate::packet::{back, dot, normalize, not, sub_point, Lanes, SegLanes};
 use crate::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
@@ -69,6 +69,14 @@ impl Sphere {
 
     pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
         ((p - self.c) * self.inv_r).normalize()
+    }
+
+    /// [`Sphere::normal`] in every lane, operation for operation.
+    #[inline(always)]
+    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
+        let q = sub_point(s, p, self.c);
+        let r = s.splat(self.inv_r);
+        normalize(s, [s.mul(q[0], r), s.mul(q[1], r), s.mul(q[2], r)])
     }
 
     pub(crate) fn contains(&self, p: DVec3) -> bool {

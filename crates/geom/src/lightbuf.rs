@@ -236,6 +236,20 @@ impl LightBuffer {
     }
 }
 
+/// What [`LightBuffer::place`] computes with.
+pub(crate) struct Grid {
+    /// Toward the light.
+    pub dir: DVec3,
+    /// The plane's axes.
+    pub u: DVec3,
+    pub v: DVec3,
+    /// Origin on the plane, cells per unit length, and cells along each
+    /// axis.
+    pub origin: (f64, f64),
+    pub scale: (f64, f64),
+    pub cells: (f64, f64),
+}
+
 /// Where a shadow ray toward a parallel light starts, on its buffer's grid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Place {
@@ -269,6 +283,19 @@ impl LightBuffer {
             return (Place::Off, depth);
         }
         (Place::Cell(fb as u32 * nu + fa as u32), depth)
+    }
+
+    /// The grid's frame, for locating many points at once as
+    /// [`LightBuffer::place`] locates one.
+    pub(crate) fn grid(&self) -> Grid {
+        Grid {
+            dir: self.dir,
+            u: self.u,
+            v: self.v,
+            origin: self.origin,
+            scale: self.scale,
+            cells: (self.nu as f64, self.nv as f64),
+        }
     }
 
     /// The bounded zones that shadow rays from `place` may meet when they

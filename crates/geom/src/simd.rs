@@ -43,6 +43,8 @@ pub(crate) trait Simd: Copy {
     fn neg(self, a: Self::F) -> Self::F;
     /// `|a|`.
     fn abs(self, a: Self::F) -> Self::F;
+    /// The greatest whole number not above `a`.
+    fn floor(self, a: Self::F) -> Self::F;
     /// The magnitude of `mag` with the sign of `sign`.
     fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F;
     /// `if a < b { a } else { b }`, lane by lane.
@@ -156,6 +158,10 @@ impl Simd for Portable {
     #[inline(always)]
     fn abs(self, a: Self::F) -> Self::F {
         lanes(|i| a[i].abs())
+    }
+    #[inline(always)]
+    fn floor(self, a: Self::F) -> Self::F {
+        lanes(|i| a[i].floor())
     }
     #[inline(always)]
     fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {
@@ -290,6 +296,10 @@ mod x86 {
             unsafe { _mm512_abs_pd(a) }
         }
         #[inline(always)]
+        fn floor(self, a: Self::F) -> Self::F {
+            unsafe { _mm512_roundscale_pd::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
+        }
+        #[inline(always)]
         fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {
             unsafe {
                 let s = _mm512_set1_epi64(i64::MIN);
@@ -421,6 +431,10 @@ mod x86 {
         #[inline(always)]
         fn abs(self, a: Self::F) -> Self::F {
             unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), a) }
+        }
+        #[inline(always)]
+        fn floor(self, a: Self::F) -> Self::F {
+            unsafe { _mm256_floor_pd(a) }
         }
         #[inline(always)]
         fn copysign(self, mag: Self::F, sign: Self::F) -> Self::F {

@@ -1,7 +1,7 @@
 //! Shadow rays toward a parallel light, in packets.
 
-use super::{box_lanes, splat3, Lanes, Spill, MAX_LANES};
-use crate::lightbuf::{LightBuffer, Place};
+use super::{box_lanes, dot, splat3, Lanes, Spill, MAX_LANES};
+use crate::lightbuf::{Grid, LightBuffer, Place};
 use crate::prepare::{PZone, Prepared};
 use crate::simd::Simd;
 use crate::trace::Scratch;
@@ -66,6 +66,7 @@ impl Prepared {
         out: &mut [bool],
     ) {
         let along = buf.shadow_ray(DVec3::ZERO);
+        let grid = buf.grid();
         let (d, inv) = (splat3(s, along.dir), splat3(s, along.inv_dir));
         for (chunk, out) in from.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
             // A short last packet repeats its last ray in the lanes left.
@@ -102,38 +103,38 @@ impl Prepared {
             }
             // The lanes in a cell together: the cell's zones, listed for
             // the lane nearest the light (the longest list), tried once.
-            let mut places = [(Place::Nowhere, 0.0); MAX_LANES];
-            for (place, &(p, _)) in places.iter_mut().zip(chunk) {
-                *place = buf.place(p);
-            }
-            let mut done = 0u32;
-            for (j, &(p, skip_j)) in chunk.iter().enumerate() {
-                if done & (1 << j) != 0 {
-                    continue;
-                }
-                let place = places[j].0;
-                if place == Place::Nowhere {
-                    // A point that is not a number: the full search decides.
-                    done |= 1 << j;
-                    if blocked & (1 << j) == 0
-                        && self.occluded(&buf.shadow_ray(p), tmin, f64::INFINITY, skip_j, sc)
-                    {
-                        blocked |= 1 << j;
-                    }
-                    continue;
-                }
-                let (mut group, mut depth) = (0u32, f64::INFINITY);
-                for (k, &(other, d)) in places.iter().enumerate().take(chunk.len()).skip(j) {
-                    if other == place {
-                        group |= 1 << k;
-                        depth = depth.min(d);
-                    }
-                }
-                done |= group;
+            // Each lane's place as `LightBuffer::place` finds it, operation
+            // for operation: the cell's number (or -1 off the grid, -2 for a
+            // point that is not a number) and the depth.
+            let (cell, depth) = places(s, &grid, &r);
+            let cells = Spill::of(s, cell);
+            let mut todo = active;
+            while todo != 0 {
+                let j = todo.trailing_zeros() as usize;
+                let c = cells.0[j];
+                let group = todo & s.bits(s.eq(cell, s.splat(c)));
+                todo &= !group;
                 if group & !blocked == 0 {
                     continue;
                 }
-                let cands = buf.candidates(place, depth);
+                if c == NOWHERE {
+                    // A point that is not a number: the full search decides.
+                    for (k, &(p, skip_k)) in chunk.iter().enumerate() {
+                        if group & !blocked & (1 << k) != 0
+                            && self.occluded(&buf.shadow_ray(p), tmin, f64::INFINITY, skip_k, sc)
+                        {
+                            blocked |= 1 << k;
+                        }
+                    }
+                    continue;
+                }
+                let place = if c == OFF {
+                    Place::Off
+                } else {
+                    Place::Cell(c as u32)
+                };
+                let nearest = s.min_lane(s.select(s.mask(group), depth, s.splat(f64::INFINITY)));
+                let cands = buf.candidates(place, nearest);
                 for zi in self.unbounded_opaque.iter().copied().chain(cands.all()) {
                     if sc.tested[zi as usize] == sc.packet {
                         continue;
@@ -221,6 +222,35 @@ impl Prepared {
         }
         found
     }
+}
+
+/// The cell number of a point off a light buffer's grid, in [`places`].
+const OFF: f64 = -1.0;
+/// The cell number of a point that is not a number, in [`places`].
+const NOWHERE: f64 = -2.0;
+
+/// Where the rays of `r` start on a light buffer's grid: each lane's cell
+/// number ([`OFF`] or [`NOWHERE`] else) and depth, as
+/// [`LightBuffer::place`] finds them, operation for operation.
+#[inline(always)]
+fn places<S: Simd>(s: S, g: &Grid, r: &Lanes<S>) -> (S::F, S::F) {
+    let depth = dot(s, r.o, splat3(s, g.dir));
+    let (a, b) = (dot(s, r.o, splat3(s, g.u)), dot(s, r.o, splat3(s, g.v)));
+    let fa = s.mul(s.sub(a, s.splat(g.origin.0)), s.splat(g.scale.0));
+    let fb = s.mul(s.sub(b, s.splat(g.origin.1)), s.splat(g.scale.1));
+    let zero = s.splat(0.0);
+    let on = s.and(
+        s.and(s.ge(fa, zero), s.ge(fb, zero)),
+        s.and(s.lt(fa, s.splat(g.cells.0)), s.lt(fb, s.splat(g.cells.1))),
+    );
+    // The cell's number: whole numbers below 2²⁴, exact in `f64`.
+    let cell = s.add(s.mul(s.floor(fb), s.splat(g.cells.0)), s.floor(fa));
+    let number = s.and(
+        s.and(s.eq(r.o[0], r.o[0]), s.eq(r.o[1], r.o[1])),
+        s.eq(r.o[2], r.o[2]),
+    );
+    let cell = s.select(on, cell, s.splat(OFF));
+    (s.select(number, cell, s.splat(NOWHERE)), depth)
 }
 
 /// The direction shared by a packet's lanes (shadow rays toward a

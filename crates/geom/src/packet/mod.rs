@@ -9,7 +9,7 @@
 //! has its span intersected and subtracted in the lanes, with exactly the
 //! comparisons of [`Prepared::zone_spans`]. Every other case goes to the
 //! scalar code, one lane at a time: a zone with a torus, a faceted solid,
-//! a quadric or a general cone; a `-` body that splits a span in two.
+//! a quadric or a general cone; `-` bodies that would leave three spans.
 //!
 //! Each lane computes with the same IEEE operations, in the same order, as
 //! the scalar tracer does for its ray, so the hits are the same bit for bit
@@ -545,9 +545,9 @@ impl Prepared {
 
     /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
     /// zone of [`PZone::lanes`]: the span, the lanes that have one, and the
-    /// lanes left to the scalar code (where a `-` body split the span and
-    /// its first piece did not last). Each step is
-    /// [`Prepared::convex_spans`]' for one span and one segment.
+    /// lanes left to the scalar code (where the `-` bodies would leave more
+    /// than two spans). Each step is [`Prepared::convex_spans`]' for one span
+    /// and one segment, or the lists' for two spans and one segment.
     #[inline(always)]
     fn zone_lanes<S: Simd>(
         &self,
@@ -598,46 +598,124 @@ impl Prepared {
             };
             return (SpanLanes { a: z0, b: z0 }, s.none(), s.none());
         };
-        let mut split = s.none();
+        // A lane may hold two spans, as the lists would: `cur`, and `next`
+        // in the lanes of `two`. A third goes to the scalar code.
+        let (mut two, mut next, mut more) = (s.none(), cur, s.none());
         for &b in minus {
+            // The reach of the lane's spans, as the lists see it.
+            let last = s.select(two, next.b.t, cur.b.t);
             let mm = s.and(
                 alive,
-                box_lanes(s, &self.body_bounds[b as usize], r, cur.a.t, cur.b.t),
+                box_lanes(s, &self.body_bounds[b as usize], r, cur.a.t, last),
             );
             if !s.any(mm) {
                 continue;
             }
             let g = self.shapes[b as usize].shoot_lanes(s, r);
-            // The segment reaches past the span's start and begins before
-            // its end.
+            // The segment reaches past the spans' start and begins before
+            // their end.
             let mm = s.andnot(
                 s.and(mm, g.hit),
-                s.or(s.ge(g.t0, cur.b.t), s.le(g.t1, cur.a.t)),
+                s.or(s.ge(g.t0, last), s.le(g.t1, cur.a.t)),
             );
             if !s.any(mm) {
                 continue;
             }
             let c = span(s, &g, b);
-            let start = cur.a;
-            let before = s.and(s.gt(c.a.t, start.t), s.gt(s.sub(c.a.t, start.t), tol));
-            let new_start = pick(s, s.gt(c.b.t, start.t), flip(s, c.b), start);
-            let after = s.gt(s.sub(cur.b.t, new_start.t), tol);
-            // Two spans: the lanes follow the first, which stays the
-            // zone's first span while anything of it is left (the lists
-            // would cut it by the same steps; it is longer than `tol`, so
-            // the lists never drop it untouched).
-            split = s.or(split, s.and(mm, s.and(before, after)));
-            alive = s.andnot(alive, s.andnot(s.andnot(mm, before), after));
-            cur.b = pick(s, s.and(mm, before), flip(s, c.a), cur.b);
-            cur.a = pick(s, s.andnot(s.and(mm, after), before), new_start, cur.a);
+            let first = cut(s, cur, c, mm, tol);
+            if !s.any(two) {
+                alive = s.and(alive, first.some);
+                (cur, next, two) = (first.one, first.other, first.both);
+            } else {
+                let second = cut(s, next, c, s.and(mm, two), tol);
+                let (some2, both2) = (s.and(two, second.some), s.and(two, second.both));
+                // The spans left, in order: the first's, then the second's.
+                let three = s.or(s.and(first.both, some2), s.and(first.some, both2));
+                more = s.or(more, s.and(alive, three));
+                alive = s.andnot(s.and(alive, s.or(first.some, some2)), three);
+                let one_and_one = s.and(s.andnot(first.some, first.both), s.andnot(some2, both2));
+                two = s.and(
+                    alive,
+                    s.or(
+                        s.or(s.andnot(first.both, some2), one_and_one),
+                        s.andnot(both2, first.some),
+                    ),
+                );
+                next = pick_span(
+                    s,
+                    first.both,
+                    first.other,
+                    pick_span(s, first.some, second.one, second.other),
+                );
+                cur = pick_span(s, first.some, first.one, second.one);
+            }
             if !s.any(alive) {
                 break;
             }
         }
-        let valid = s.and(alive, s.and(s.gt(cur.b.t, lo), s.lt(cur.a.t, hi)));
-        // Where the first of two spans went, or lies before `lo`, the first
-        // span is another: the scalar code finds it.
-        (cur, valid, s.andnot(split, valid))
+        // The first span that reaches into `(lo, hi)`.
+        let in_cur = s.and(alive, within(s, &cur, lo, hi));
+        let in_next = s.andnot(s.and(s.and(alive, two), within(s, &next, lo, hi)), in_cur);
+        (
+            pick_span(s, in_next, next, cur),
+            s.or(in_cur, in_next),
+            more,
+        )
+    }
+}
+
+/// What is left of span `p` less span `c` in the lanes of `m` (elsewhere
+/// `p` as it was): [`crate::boolean::subtract_with`]'s step for one span and
+/// one segment that meets it.
+#[inline(always)]
+fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> Cut<S> {
+    // Only where the segment reaches into the span.
+    let m = s.and(m, s.and(s.gt(c.b.t, p.a.t), s.lt(c.a.t, p.b.t)));
+    let start = p.a;
+    let before = s.and(s.gt(c.a.t, start.t), s.gt(s.sub(c.a.t, start.t), tol));
+    let after_start = pick(s, s.gt(c.b.t, start.t), flip(s, c.b), start);
+    let after = s.gt(s.sub(p.b.t, after_start.t), tol);
+    let (before_span, after_span) = (
+        SpanLanes {
+            a: start,
+            b: flip(s, c.a),
+        },
+        SpanLanes {
+            a: after_start,
+            b: p.b,
+        },
+    );
+    Cut {
+        one: pick_span(s, m, pick_span(s, before, before_span, after_span), p),
+        other: after_span,
+        some: s.or(s.andnot(s.mask(u32::MAX), m), s.or(before, after)),
+        both: s.and(m, s.and(before, after)),
+    }
+}
+
+/// A span less a segment, in every lane: none, one (`one`) or two (`one`
+/// then `other`) spans.
+struct Cut<S: Simd> {
+    one: SpanLanes<S>,
+    other: SpanLanes<S>,
+    /// Lanes with one span or two.
+    some: S::M,
+    /// Lanes with two.
+    both: S::M,
+}
+
+/// The lanes where span `sp` reaches into `(lo, hi)`.
+#[inline(always)]
+fn within<S: Simd>(s: S, sp: &SpanLanes<S>, lo: S::F, hi: S::F) -> S::M {
+    s.and(s.gt(sp.b.t, lo), s.lt(sp.a.t, hi))
+}
+
+/// `if c { x } else { y }` of whole spans, lane by lane.
+#[inline(always)]
+fn pick_span<S: Simd>(s: S, c: S::M, x: SpanLanes<S>, y: SpanLanes<S>) -> SpanLanes<S> {
+    SpanLanes {
+        a: pick(s, c, x.a, y.a),
+        b: pick(s, c, x.b, y.b),
     }
 }
 

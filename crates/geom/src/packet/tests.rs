@@ -110,16 +110,17 @@ fn bodies(rng: &mut impl Rng) -> Vec<Body> {
 }
 
 /// Zones of random bodies, or zones made to sit on the tolerances
-/// (apart, so that the random ones do not hide them): `+` and `-`
-/// bodies flush with each other, a body less itself, cones whose
-/// generators the rays below run along.
-fn geometry(rng: &mut impl Rng, made_only: bool) -> Geometry {
+/// (apart, so that the random ones do not hide them; `only` one of them,
+/// so that none hides another): `+` and `-` bodies flush with each other,
+/// a body less itself, cones whose generators the rays below run along,
+/// slabs that cut a span into two or three.
+fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>) -> Geometry {
     let mut g = Geometry {
         bodies: bodies(rng),
         ..Default::default()
     };
     let n = g.bodies.len();
-    let edge: [(BodyKind, Vec<f64>); 8] = [
+    let edge: [(BodyKind, Vec<f64>); 10] = [
         (BodyKind::Rpp, vec![0.5, 1.5, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Rpp, vec![-0.5, 0.0, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.6, 0.2]),
@@ -138,12 +139,16 @@ fn geometry(rng: &mut impl Rng, made_only: bool) -> Geometry {
             BodyKind::Box,
             vec![0.0, -0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
         ),
+        // Slabs across the cube: one splits a span in two, the other makes
+        // three pieces.
+        (BodyKind::Rpp, vec![-0.1, 0.1, -2.0, 2.0, -2.0, 2.0]),
+        (BodyKind::Rpp, vec![0.25, 0.3, -2.0, 2.0, -2.0, 2.0]),
     ];
     for (i, (kind, params)) in edge.into_iter().enumerate() {
         g.bodies.push(Body::new(format!("e{i}"), kind, params));
     }
     let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
-    let (low, high) = (n + 6, n + 7);
+    let (low, high, slab, slab2) = (n + 6, n + 7, n + 8, n + 9);
     let zone = |plus: &[usize], minus: &[usize]| Zone {
         terms: plus
             .iter()
@@ -173,12 +178,20 @@ fn geometry(rng: &mut impl Rng, made_only: bool) -> Geometry {
         zone(&[cube, low], &[]),
         zone(&[low], &[half]),
         zone(&[cube], &[high, low]),
+        zone(&[cube], &[slab]),
+        zone(&[cube], &[slab, half]),
+        zone(&[cube], &[slab, slab2]),
+        zone(&[cube], &[slab, slab2, half]),
+        zone(&[ball], &[slab, cyl]),
     ];
+    let count = made.len();
     for (r, z) in made.into_iter().enumerate() {
-        g.regions.push(Region {
-            name: format!("m{r}"),
-            zones: vec![z],
-        });
+        if only.is_none_or(|i| i % count == r) {
+            g.regions.push(Region {
+                name: format!("m{r}"),
+                zones: vec![z],
+            });
+        }
     }
     if made_only {
         return g;
@@ -282,8 +295,8 @@ fn same(a: &[(u32, Hit)], b: &[(u32, Hit)]) -> bool {
 fn packets_find_the_hits_of_rays_traced_one_by_one() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
     let (mut lanes_zones, mut other_zones, mut hits, mut rays_cast) = (0, 0, 0, 0);
-    for i in 0..8 {
-        let g = geometry(&mut rng, i % 2 == 0);
+    for i in 0..28 {
+        let g = geometry(&mut rng, i % 2 == 0 || i >= 8, (i >= 8).then(|| i - 8));
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         lanes_zones += p.zones.iter().filter(|z| z.lanes).count();
         other_zones += p.zones.iter().filter(|z| !z.lanes).count();
@@ -355,7 +368,7 @@ fn packets_find_the_hits_of_rays_traced_one_by_one() {
         lanes_zones > 100 && other_zones > 20,
         "{lanes_zones} {other_zones}"
     );
-    assert!(hits * 3 > rays_cast, "{hits} of {rays_cast}");
+    assert!(hits * 4 > rays_cast, "{hits} of {rays_cast}");
 }
 
 #[test]
@@ -363,7 +376,7 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
     let (mut blocked, mut tested) = (0, 0);
     for i in 0..8 {
-        let g = geometry(&mut rng, i % 2 == 0);
+        let g = geometry(&mut rng, i % 2 == 0, None);
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         let all: Vec<u32> = (0..p.zones.len() as u32).collect();
         let mut s = Scratch::new(&p);
@@ -532,7 +545,7 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
     let inf = f64::INFINITY;
     for i in 0..6 {
         let g = if i < 4 {
-            geometry(&mut rng, i % 2 == 0)
+            geometry(&mut rng, i % 2 == 0, None)
         } else {
             hollows()
         };

@@ -62,9 +62,10 @@ pub(crate) struct PZone {
     pub bounds: Aabb,
     /// Every `+` body is convex (so the zone's `+` part is convex).
     pub convex: bool,
-    /// It has `+` bodies, and every body is one the packet tracer casts in
+    /// It has `+` bodies, every one of which the packet tracer casts in
     /// vector lanes ([`Shape::has_lanes`]): a packet evaluates the zone for
-    /// all its rays at once.
+    /// all its rays at once, but for the rays that meet the box of a `-`
+    /// body it cannot cast.
     pub lanes: bool,
 }
 
@@ -208,11 +209,8 @@ impl Prepared {
                     .collect();
                 minus.dedup();
                 let convex = plus.iter().all(|&b| shapes[b as usize].is_convex());
-                let lanes = !plus.is_empty()
-                    && plus
-                        .iter()
-                        .chain(&minus)
-                        .all(|&b| shapes[b as usize].has_lanes());
+                let lanes =
+                    !plus.is_empty() && plus.iter().all(|&b| shapes[b as usize].has_lanes());
                 zones.push(PZone {
                     convex,
                     lanes,

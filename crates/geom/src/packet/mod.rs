@@ -9,7 +9,8 @@
 //! has its span intersected and subtracted in the lanes, with exactly the
 //! comparisons of [`Prepared::zone_spans`]. Every other case goes to the
 //! scalar code, one lane at a time: a zone with a torus, a faceted solid,
-//! a quadric or a general cone; `-` bodies that would leave three spans.
+//! a quadric or a general cone among its `+` bodies; a ray that meets the
+//! box of such a `-` body; `-` bodies that would leave three spans.
 //!
 //! Each lane computes with the same IEEE operations, in the same order, as
 //! the scalar tracer does for its ray, so the hits are the same bit for bit
@@ -611,7 +612,18 @@ impl Prepared {
             if !s.any(mm) {
                 continue;
             }
-            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            let shape = &self.shapes[b as usize];
+            if !shape.has_lanes() {
+                // A body the lanes cannot cast (a torus, say): the rays
+                // that meet its box go to the scalar code.
+                more = s.or(more, mm);
+                alive = s.andnot(alive, mm);
+                if !s.any(alive) {
+                    break;
+                }
+                continue;
+            }
+            let g = shape.shoot_lanes(s, r);
             // The segment reaches past the spans' start and begins before
             // their end.
             let mm = s.andnot(

@@ -120,7 +120,7 @@ fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>) -> Geometr
         ..Default::default()
     };
     let n = g.bodies.len();
-    let edge: [(BodyKind, Vec<f64>); 10] = [
+    let edge: [(BodyKind, Vec<f64>); 12] = [
         (BodyKind::Rpp, vec![0.5, 1.5, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Rpp, vec![-0.5, 0.0, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.6, 0.2]),
@@ -143,12 +143,21 @@ fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>) -> Geometr
         // three pieces.
         (BodyKind::Rpp, vec![-0.1, 0.1, -2.0, 2.0, -2.0, 2.0]),
         (BodyKind::Rpp, vec![0.25, 0.3, -2.0, 2.0, -2.0, 2.0]),
+        // Bodies the lanes cannot cast, cutting visible surfaces: a ring
+        // groove in the cube's top, a general cone through the ball.
+        (BodyKind::Tor, vec![0.0, 0.0, 0.5, 0.0, 0.0, 1.0, 0.3, 0.12]),
+        (
+            BodyKind::Tgc,
+            vec![
+                -1.0, 0.1, 0.0, 2.0, 0.0, 0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.2, 0.1, 0.3,
+            ],
+        ),
     ];
     for (i, (kind, params)) in edge.into_iter().enumerate() {
         g.bodies.push(Body::new(format!("e{i}"), kind, params));
     }
     let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
-    let (low, high, slab, slab2) = (n + 6, n + 7, n + 8, n + 9);
+    let (low, high, slab, slab2, ring, tgc) = (n + 6, n + 7, n + 8, n + 9, n + 10, n + 11);
     let zone = |plus: &[usize], minus: &[usize]| Zone {
         terms: plus
             .iter()
@@ -183,6 +192,9 @@ fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>) -> Geometr
         zone(&[cube], &[slab, slab2]),
         zone(&[cube], &[slab, slab2, half]),
         zone(&[ball], &[slab, cyl]),
+        zone(&[cube], &[ring]),
+        zone(&[ball], &[tgc]),
+        zone(&[cube], &[slab, ring]),
     ];
     let count = made.len();
     for (r, z) in made.into_iter().enumerate() {
@@ -295,7 +307,7 @@ fn same(a: &[(u32, Hit)], b: &[(u32, Hit)]) -> bool {
 fn packets_find_the_hits_of_rays_traced_one_by_one() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
     let (mut lanes_zones, mut other_zones, mut hits, mut rays_cast) = (0, 0, 0, 0);
-    for i in 0..28 {
+    for i in 0..31 {
         let g = geometry(&mut rng, i % 2 == 0 || i >= 8, (i >= 8).then(|| i - 8));
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         lanes_zones += p.zones.iter().filter(|z| z.lanes).count();

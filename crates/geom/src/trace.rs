@@ -5,7 +5,7 @@ use crate::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound,
 use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared, Tighter};
 use crate::shape::Seg;
-use sv_math::{Aabb, DVec3, Ray};
+use sv_math::{Aabb, DVec3, Ray, RayGen};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
 /// nothing once it has warmed up.
@@ -529,15 +529,56 @@ impl Prepared {
         }
     }
 
-    /// How many zones, unbounded, lead every list of
-    /// [`Prepared::frustum_zones`] (they are listed without a test).
-    pub fn unbounded_opaque_zones(&self) -> usize {
-        self.unbounded_opaque.len()
+    /// Where bounded zone `zi` may be seen on the raster of `gen`: within
+    /// the rectangle around its box, narrowed to that around its ball or
+    /// hull points where it has them (up to rounding: pad it); nowhere when
+    /// it lies wholly behind the plane of the eye (or, orthographic, of the
+    /// rays' origins); anywhere when neither its box nor its ball or hull
+    /// lies wholly in front of a perspective camera's eye. For a zone in
+    /// front of the eye this is [`Prepared::frustum_zones`]' test of a
+    /// tile's frustum, plane by plane, turned around: a box, ball or hull
+    /// lies wholly outside a plane through the eye and a tile's edge
+    /// exactly when its rectangle lies beyond that edge.
+    pub fn zone_rect(&self, zi: u32, gen: &RayGen) -> Seen {
+        let b = &self.zones[zi as usize].bounds;
+        let corner = |i: usize| {
+            DVec3::new(
+                if i & 1 == 0 { b.min.x } else { b.max.x },
+                if i & 2 == 0 { b.min.y } else { b.max.y },
+                if i & 4 == 0 { b.min.z } else { b.max.z },
+            )
+        };
+        // Rays meet only points ahead of where they start.
+        if (0..8).all(|i| (corner(i) - gen.eye).dot(gen.forward) < 0.0) {
+            return Seen::Nowhere;
+        }
+        let boxed = || gen.raster_rect((0..8).map(corner));
+        let rect = match self.tighter(zi) {
+            // The ball lies in the box.
+            Tighter::Ball(c, r) => gen.ball_rect(c, r).or_else(boxed),
+            Tighter::Points(pts) => match (boxed(), gen.raster_rect(pts.iter().copied())) {
+                (Some(a), Some(h)) => Some([
+                    a[0].max(h[0]),
+                    a[1].max(h[1]),
+                    a[2].min(h[2]),
+                    a[3].min(h[3]),
+                ]),
+                (a, h) => a.or(h),
+            },
+            Tighter::Box => boxed(),
+        };
+        rect.map_or(Seen::Anywhere, Seen::Within)
     }
 
-    /// The bounds of zone `zi` (padded by the tolerance).
-    pub fn zone_bounds(&self, zi: u32) -> Aabb {
-        self.zones[zi as usize].bounds
+    /// The bounded zones of opaque regions.
+    pub fn bounded_opaque_zones(&self) -> &[u32] {
+        &self.bvh_opaque.items
+    }
+
+    /// The zones of opaque regions that have no finite bounds (they lead
+    /// every list of [`Prepared::frustum_zones`], untested).
+    pub fn unbounded_opaque(&self) -> &[u32] {
+        &self.unbounded_opaque
     }
 
     /// The opaque zones whose bounds pass `meets` and that then pass `keep`
@@ -809,6 +850,19 @@ fn span(g: &Seg, body: u32) -> Span {
         a: Bound::new(g.t0, body, g.f0),
         b: Bound::new(g.t1, body, g.f1),
     }
+}
+
+/// Where a zone may be seen on a camera's raster
+/// ([`Prepared::zone_rect`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Seen {
+    /// Nowhere: it lies behind the rays.
+    Nowhere,
+    /// Anywhere: it reaches behind a perspective camera's eye.
+    Anywhere,
+    /// Within the rectangle `[x0, y0, x1, y1]` of the raster, in pixels
+    /// from its top-left corner (up to rounding).
+    Within([f64; 4]),
 }
 
 /// The volume swept by a bundle of rays (a tile of pixels): the

@@ -1,6 +1,6 @@
 //! The primary rays of a camera's raster.
 
-use crate::{Aabb, Ray};
+use crate::Ray;
 use glam::DVec3;
 
 /// Makes the primary ray through any point of the raster of a camera
@@ -71,49 +71,80 @@ impl RayGen {
         }
     }
 
-    /// The raster column (`x`, in pixels from the left edge) where point
-    /// `p` is seen, or `None` for a point not in front of a perspective
-    /// camera. The inverse of [`RayGen::ray`] up to rounding.
-    pub fn raster_x(&self, p: DVec3) -> Option<f64> {
+    /// Where point `p` is seen on the raster, `(x, y)` in pixels from the
+    /// top-left corner, or `None` for a point not in front of a
+    /// perspective camera. The inverse of [`RayGen::ray`] up to rounding.
+    pub fn raster(&self, p: DVec3) -> Option<(f64, f64)> {
         let q = p - self.eye;
         let mut sx = q.dot(self.right) / self.right.length_squared();
+        let mut sy = q.dot(self.up) / self.up.length_squared();
         if !self.ortho {
             let z = q.dot(self.forward);
             if z <= 0.0 || z.is_nan() {
                 return None;
             }
-            sx /= z;
+            (sx, sy) = (sx / z, sy / z);
         }
-        Some((sx + 1.0) / (2.0 * self.inv_w))
+        Some(self.raster_of(sx, sy))
     }
 
-    /// The raster columns (`x`, in pixels from the left edge) between
-    /// which a box may be seen, or `None` when it reaches to or behind the
-    /// plane of a perspective camera's eye. Conservative up to rounding:
-    /// the box's extent across and along the view, in the camera's frame,
-    /// bounds the columns of its corners.
-    pub fn raster_x_span(&self, b: &Aabb) -> Option<(f64, f64)> {
-        let across = self.right / self.right.length_squared();
-        let (c, e) = (b.center() - self.eye, b.size() * 0.5);
-        let (x, ex) = (c.dot(across), e.dot(across.abs()));
-        let (x0, x1) = if self.ortho {
-            (x - ex, x + ex)
+    /// The raster position of image-plane coordinates `(sx, sy)` (each −1
+    /// to 1 across the raster), as [`RayGen::ray`] maps them.
+    fn raster_of(&self, sx: f64, sy: f64) -> (f64, f64) {
+        (
+            (sx + 1.0) / (2.0 * self.inv_w),
+            (1.0 - sy) / (2.0 * self.inv_h),
+        )
+    }
+
+    /// The smallest rectangle of the raster, `[x0, y0, x1, y1]`, that holds
+    /// where the points are seen, or `None` when one of them is not in
+    /// front of a perspective camera.
+    pub fn raster_rect(&self, pts: impl IntoIterator<Item = DVec3>) -> Option<[f64; 4]> {
+        let mut r = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for p in pts {
+            let (x, y) = self.raster(p)?;
+            r = [r[0].min(x), r[1].min(y), r[2].max(x), r[3].max(y)];
+        }
+        Some(r)
+    }
+
+    /// The rectangle of the raster, `[x0, y0, x1, y1]`, around where the
+    /// ball of centre `c` and radius `r` is seen (up to rounding: its
+    /// outline's tangents through the eye), or `None` when the ball reaches
+    /// to or behind the plane of a perspective camera's eye.
+    pub fn ball_rect(&self, c: DVec3, r: f64) -> Option<[f64; 4]> {
+        let q = c - self.eye;
+        let (rl, ul) = (self.right.length(), self.up.length());
+        let (x, y) = (q.dot(self.right) / rl, q.dot(self.up) / ul);
+        let ((x0, x1), (y0, y1)) = if self.ortho {
+            ((x - r, x + r), (y - r, y + r))
         } else {
-            let (z, ez) = (c.dot(self.forward), e.dot(self.forward.abs()));
-            let (near, far) = (z - ez, z + ez);
-            if near <= 0.0 || near.is_nan() {
+            let z = q.dot(self.forward);
+            if z - r <= 0.0 || (z - r).is_nan() {
                 return None;
             }
-            // The least and greatest of x / z over the box's (x, z) range.
-            let lo = x - ex;
-            let hi = x + ex;
-            (
-                lo / if lo >= 0.0 { far } else { near },
-                hi / if hi >= 0.0 { near } else { far },
-            )
+            // The slopes of the tangents from the eye to the disc the ball
+            // casts on the plane of the view and one image axis.
+            let slopes = |a: f64| {
+                let s = (a * a + z * z - r * r).sqrt();
+                (
+                    (a * s - r * z) / (z * s + r * a),
+                    (a * s + r * z) / (z * s - r * a),
+                )
+            };
+            (slopes(x), slopes(y))
         };
-        let to_raster = |sx: f64| (sx + 1.0) / (2.0 * self.inv_w);
-        Some((to_raster(x0), to_raster(x1)))
+        // To the image plane's units: the right and up vectors' lengths are
+        // half the raster's width and height there.
+        let (a, b) = self.raster_of(x0 / rl, y1 / ul);
+        let (c, d) = self.raster_of(x1 / rl, y0 / ul);
+        Some([a, b, c, d])
     }
 
     /// The rays through many raster positions, appended to `out`: exactly

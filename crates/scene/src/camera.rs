@@ -131,7 +131,7 @@ mod tests {
     }
 
     #[test]
-    fn a_point_on_the_ray_through_a_column_is_seen_in_that_column() {
+    fn a_point_on_the_ray_through_a_pixel_is_seen_there() {
         for lens in [
             Lens::Fov { vertical_deg: 37.0 },
             Lens::Ortho { height: 3.0 },
@@ -147,12 +147,76 @@ mod tests {
                 let (x, y) = (i as f64 * 13.7 - 20.0, 479.0 - i as f64 * 9.3);
                 let r = g.ray(x, y);
                 for t in [0.5, 3.0, 40.0] {
-                    let got = g.raster_x(r.at(t)).expect("in front of the eye");
-                    assert!((got - x).abs() < 1e-6, "{lens:?}: {got} for {x}");
+                    let (gx, gy) = g.raster(r.at(t)).expect("in front of the eye");
+                    assert!(
+                        (gx - x).abs() < 1e-6 && (gy - y).abs() < 1e-6,
+                        "{lens:?}: ({gx}, {gy}) for ({x}, {y})"
+                    );
                 }
                 if matches!(lens, Lens::Fov { .. }) {
-                    assert_eq!(g.raster_x(r.at(-1.0)), None);
+                    assert_eq!(g.raster(r.at(-1.0)), None);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn a_balls_rectangle_holds_its_outline_and_no_more() {
+        for lens in [
+            Lens::Fov { vertical_deg: 50.0 },
+            Lens::Ortho { height: 8.0 },
+        ] {
+            let cam = Camera::looking_at(DVec3::new(-9.0, 4.0, 3.0), DVec3::ZERO, DVec3::Z, lens);
+            let g = cam.rays(640, 480);
+            for (c, r) in [
+                (DVec3::ZERO, 1.0),
+                (DVec3::new(1.0, -3.0, 2.0), 0.4),
+                (DVec3::new(-4.0, 3.0, -1.0), 2.0),
+            ] {
+                let rect = g.ball_rect(c, r).expect("in front of the eye");
+                // Points on the sphere lie inside; the rectangle's sides
+                // are reached.
+                let mut seen = [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ];
+                for i in 0..200 {
+                    for j in 0..100 {
+                        let step = std::f64::consts::PI / 100.0;
+                        let (a, e) = (
+                            i as f64 * step,
+                            -std::f64::consts::FRAC_PI_2 + j as f64 * step,
+                        );
+                        let p = c + DVec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin()) * r;
+                        let (x, y) = g.raster(p).unwrap();
+                        assert!(
+                            x >= rect[0] - 1e-6 && x <= rect[2] + 1e-6,
+                            "{x} outside {rect:?}"
+                        );
+                        assert!(
+                            y >= rect[1] - 1e-6 && y <= rect[3] + 1e-6,
+                            "{y} outside {rect:?}"
+                        );
+                        seen = [
+                            seen[0].min(x),
+                            seen[1].min(y),
+                            seen[2].max(x),
+                            seen[3].max(y),
+                        ];
+                    }
+                }
+                for k in 0..4 {
+                    assert!(
+                        (seen[k] - rect[k]).abs() < 0.5,
+                        "{lens:?}: {seen:?} against {rect:?}"
+                    );
+                }
+            }
+            // A ball around the eye is seen everywhere.
+            if matches!(lens, Lens::Fov { .. }) {
+                assert_eq!(g.ball_rect(cam.eye, 0.5), None);
             }
         }
     }

@@ -120,8 +120,10 @@ pub struct Prepared {
     /// place of each body.
     body_ids: Vec<u32>,
     places: Vec<u32>,
-    /// Trace a tile's primary rays in packets where the processor has
-    /// vector instructions for it ([`Prepared::first_hits_in`]).
+    /// Trace rays in packets where the processor has vector instructions
+    /// for it: [`Prepared::first_hits_in`], [`Prepared::first_hits`],
+    /// [`Prepared::tile_hits`] and [`Prepared::occluded_toward`]. Off with
+    /// [`PrepareOptions::brute_force`].
     pub(crate) packets: bool,
 }
 

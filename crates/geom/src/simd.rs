@@ -3,7 +3,7 @@
 //! The packet tracer ([`crate::packet`]) is written once, generic over
 //! [`Simd`], and compiled for each instruction set found at run time:
 //! AVX-512 (eight lanes) and AVX2 (four), on x86-64. [`Portable`] is the
-//! same four lanes in plain arrays, for the tests on any machine.
+//! same lanes in plain arrays, for the tests on any machine.
 //!
 //! Every operation is the IEEE operation of the scalar code lane by lane
 //! (no fused multiply-add, no approximate reciprocal or root), so a lane
@@ -69,7 +69,8 @@ pub(crate) trait Simd: Copy {
     fn bits(self, m: Self::M) -> u32;
     /// The mask of the low `LANES` bits of `b`.
     fn mask(self, b: u32) -> Self::M;
-    /// The least lane (of lanes that are numbers).
+    /// The least lane. Its answer with a lane that is not a number differs
+    /// from one instruction set to another: give it numbers.
     fn min_lane(self, a: Self::F) -> f64;
     /// Lane `i` is `v[first + i * stride]`; `v` must hold them all.
     fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F;
@@ -96,25 +97,22 @@ pub(crate) trait Simd: Copy {
     }
 }
 
-/// Four lanes in plain arrays: the packet tracer's reference form, which
+/// `P` lanes in plain arrays: the packet tracer's reference form, which
 /// runs anywhere (the tests hold the vector forms to it and to the scalar
-/// tracer).
+/// tracer, with four lanes as AVX2 has and eight as AVX-512 has).
 #[cfg(test)]
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Portable;
-
-#[cfg(test)]
-const P: usize = 4;
+pub(crate) struct Portable<const P: usize>;
 
 /// One lane at a time.
 #[cfg(test)]
 #[inline(always)]
-fn lanes<T: Copy>(f: impl Fn(usize) -> T) -> [T; P] {
+fn lanes<T: Copy, const P: usize>(f: impl Fn(usize) -> T) -> [T; P] {
     std::array::from_fn(f)
 }
 
 #[cfg(test)]
-impl Simd for Portable {
+impl<const P: usize> Simd for Portable<P> {
     const LANES: usize = P;
     type F = [f64; P];
     type M = [bool; P];
@@ -356,7 +354,7 @@ mod x86 {
         }
         #[inline(always)]
         fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
-            assert!(first + 7 * stride < v.len());
+            assert!(stride.checked_mul(7).and_then(|s| s.checked_add(first)) < Some(v.len()));
             let s = stride as i64;
             unsafe {
                 let at = _mm512_setr_epi64(0, s, 2 * s, 3 * s, 4 * s, 5 * s, 6 * s, 7 * s);
@@ -485,7 +483,7 @@ mod x86 {
         }
         #[inline(always)]
         fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
-            assert!(first + 3 * stride < v.len());
+            assert!(stride.checked_mul(3).and_then(|s| s.checked_add(first)) < Some(v.len()));
             let s = stride as i64;
             unsafe {
                 let at = _mm256_setr_epi64x(0, s, 2 * s, 3 * s);

@@ -17,6 +17,9 @@ pub struct Ray {
     pub inv_dir: DVec3,
 }
 
+// `Ray::coordinates` reads a ray as nine `f64`.
+const _: () = assert!(size_of::<Ray>() == 72 && align_of::<Ray>() == 8);
+
 impl Ray {
     /// The rays' coordinates, nine per ray: origin, direction and its
     /// reciprocal.

@@ -68,11 +68,15 @@ struct Workspace<'a> {
 
 impl<'a> Workspace<'a> {
     fn new(p: &Prepared, lights: &[Light], buffers: &'a [Buffer]) -> Workspace<'a> {
+        // The direction the light's buffer casts its shadow rays along, so
+        // that the shading's `cos θ` and the packets' agree.
         let toward = lights
             .iter()
-            .map(|l| match l.kind {
-                LightKind::Parallel { dir } => -dir.normalize(),
-                LightKind::Point { .. } => DVec3::ZERO,
+            .enumerate()
+            .map(|(i, l)| match (l.kind, buffers.get(i)) {
+                (_, Some(Buffer::Parallel(lb))) => lb.toward(),
+                (LightKind::Parallel { dir }, _) => -dir.normalize(),
+                (LightKind::Point { .. }, _) => DVec3::ZERO,
             })
             .collect();
         let lights = lights.len();
@@ -138,12 +142,12 @@ const TILE: usize = 16;
 /// Above this many candidate zones a tile's rays walk the hierarchy. A ray
 /// that meets nothing tests every zone of its tile's list, so the list must
 /// stay short; but walking the hierarchy costs a ray that crosses a crowd
-/// of small bodies more than testing a few hundred listed boxes in turn
-/// (BENCHMARKS.md, fifth round: 256 against 128 renders 100,000 small
-/// spheres 1.75× as fast, and 100,000 spheres seen from far off, where
-/// most rays of their tiles pass them by, 2 % slower; 1024 would make that
-/// 14 % and 2048 65 %).
-const MAX_TILE_ZONES: usize = 256;
+/// of small bodies more than testing a few hundred listed boxes in turn,
+/// eight rays at a time. 100,000 small spheres at constant coverage cost
+/// 72, 64, 63 and 67 ns a ray with 256, 512, 1024 and 2048; seen from far
+/// off (1 % of the picture on spheres), 17–19, 20–22 and 23 ns with 256,
+/// 1024 and 2048 (BENCHMARKS.md, thirteenth round).
+const MAX_TILE_ZONES: usize = 512;
 use sv_math::{Aabb, DVec3, Ray};
 use sv_scene::{Background, Camera, Light, LightKind, RayGen, Scene};
 
@@ -894,7 +898,7 @@ mod tests {
         // lie behind it), from outside, and orthographic.
         let cameras = [
             Camera::looking_at(
-                DVec3::new(300.0, -250.0, 120.0),
+                DVec3::new(3000.0, -2500.0, 1200.0),
                 DVec3::ZERO,
                 DVec3::Z,
                 Lens::Fov { vertical_deg: 40.0 },
@@ -918,7 +922,9 @@ mod tests {
                 Lens::Ortho { height: 16.0 },
             ),
         ];
-        let (w, h) = (320, 240);
+        // The picture's centre inside a tile, not on the tiles' corners: the
+        // far-off crowd lands in one tile.
+        let (w, h) = (328, 248);
         let (mut lists, mut own) = (BandLists::default(), Vec::new());
         let (mut kept, mut extra, mut behind, mut overflowing) = (0, 0, 0, 0);
         for cam in cameras {

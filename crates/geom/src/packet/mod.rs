@@ -15,6 +15,16 @@
 //! Each lane computes with the same IEEE operations, in the same order, as
 //! the scalar tracer does for its ray, so the hits are the same bit for bit
 //! (tested against [`Prepared::first_hit_in`] for every lane width).
+//!
+//! Shadow rays toward a parallel light go in packets too (the `shadow` module): the
+//! rays of a packet share their direction, and each lane stops at the first
+//! opaque zone that blocks it.
+//!
+//! Everything the packet tracer calls between its entry points (compiled
+//! for an instruction set with `#[target_feature]`) and the intrinsics is
+//! `#[inline(always)]` and free of closures: an intrinsic left in a
+//! function compiled without its instruction set stays a call, and a call
+//! per operation undoes the lanes' gain.
 
 use crate::boolean::Bound;
 use crate::prepare::{PZone, Prepared};
@@ -186,6 +196,11 @@ impl<S: Simd> Best<S> {
         let mut todo = hit & !s.bits(facing);
         let mut one_by_one = hit & s.bits(facing);
         let bodies = Spill::of(s, self.a.body);
+        // The face without the flip bit (set for subtracted bodies), and
+        // the points hit.
+        let flip = s.ge(self.a.face, s.splat(FLIP));
+        let face = s.select(flip, s.sub(self.a.face, s.splat(FLIP)), self.a.face);
+        let at = along(s, r.o, r.d, self.t);
         while todo != 0 {
             let body = bodies.0[todo.trailing_zeros() as usize];
             let group = todo & s.bits(s.eq(self.a.body, s.splat(body)));
@@ -196,15 +211,7 @@ impl<S: Simd> Best<S> {
                 one_by_one |= group;
                 continue;
             }
-            // The face without the flip bit, and the lanes of subtracted
-            // bodies.
-            let flip = s.ge(self.a.face, s.splat(FLIP));
-            let face = s.select(flip, s.sub(self.a.face, s.splat(FLIP)), self.a.face);
-            let at = along(s, r.o, r.d, self.t);
-            let Some(lanes) = shape.normal_lanes(s, face, at) else {
-                one_by_one |= group;
-                continue;
-            };
+            let lanes = shape.normal_lanes(s, face, at);
             if in_lanes == 0 {
                 for (o, l) in out.iter_mut().zip(lanes) {
                     o.write(Spill::of(s, s.select(flip, s.neg(l), l)));
@@ -256,11 +263,6 @@ pub(crate) fn dot<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> S::F {
 
 /// `m v` as glam computes it: the columns scaled by `v`'s coordinates and
 /// added left to right.
-///
-/// Everything the packet tracer calls between its entry points (compiled
-/// for an instruction set) and the intrinsics is `#[inline(always)]` and
-/// free of closures: an intrinsic left in a function compiled without its
-/// instruction set stays a call.
 #[inline(always)]
 pub(crate) fn mat_vec<S: Simd>(s: S, m: &DMat3, v: [S::F; 3]) -> [S::F; 3] {
     let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
@@ -358,22 +360,22 @@ impl Shape {
     }
 
     /// [`Shape::normal`] in every lane, at points `p` on faces `face` (as
-    /// `f64`), for the shapes of [`Shape::has_lanes`]; `None` for others.
+    /// `f64`), for the shapes of [`Shape::has_lanes`] only.
     #[inline(always)]
-    fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> Option<[S::F; 3]> {
-        Some(match self {
+    fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+        match self {
             Shape::Sphere(b) => b.normal_lanes(s, p),
             Shape::Ellipsoid(b) => b.normal_lanes(s, p),
             Shape::Cone(b) => b.normal_lanes(s, face, p),
             Shape::Rpp(b) => b.normal_lanes(s, face),
             Shape::Polyhedron(b) => b.normal_lanes(s, face),
-            _ => return None,
-        })
+            _ => unreachable!("normals in lanes asked of a shape without them"),
+        }
     }
 
     /// [`Shape::shoot`] for every lane, for the shapes of
-    /// [`Shape::has_lanes`] (convex: one segment at most); others hit
-    /// nothing here and are left to the scalar code by the caller.
+    /// [`Shape::has_lanes`] only (convex: one segment at most); the callers
+    /// leave the others to the scalar code.
     #[inline(always)]
     fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         match self {
@@ -382,16 +384,7 @@ impl Shape {
             Shape::Cone(b) => b.shoot_lanes(s, r),
             Shape::Rpp(b) => b.shoot_lanes(s, r),
             Shape::Polyhedron(b) => b.shoot_lanes(s, r),
-            _ => {
-                let z = s.splat(0.0);
-                SegLanes {
-                    t0: z,
-                    t1: z,
-                    f0: z,
-                    f1: z,
-                    hit: s.none(),
-                }
-            }
+            _ => unreachable!("lanes asked to cast a shape they cannot"),
         }
     }
 }

@@ -145,8 +145,10 @@ impl Prepared {
     /// in the tile (row by row), their rays to the same places of `rays`,
     /// and the surface normals there ([`Prepared::normal`]) to those of
     /// `normals`, computed in the lanes too for the bodies several rays of
-    /// a packet hit; the number of hits is returned. All three are only
-    /// ever grown.
+    /// a packet hit; the number of hits is returned. The hits come in no
+    /// particular order (a packet's rays are a block of the tile), and only
+    /// the rays of hits are written out. All three buffers are only ever
+    /// grown.
     #[allow(clippy::too_many_arguments)]
     pub fn tile_hits(
         &self,
@@ -160,6 +162,9 @@ impl Prepared {
         rays: &mut Vec<Ray>,
         normals: &mut Vec<DVec3>,
     ) -> usize {
+        if tile.is_empty() {
+            return 0;
+        }
         grow(hits, tile.len(), (0, Hit::NONE));
         grow(rays, tile.len(), gen.along);
         grow(normals, tile.len(), DVec3::ZERO);

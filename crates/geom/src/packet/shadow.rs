@@ -21,7 +21,7 @@ impl Prepared {
     /// its rays once, on all its rays not yet blocked. A zone that the
     /// buffer does not list for a ray cannot block it, so trying it there
     /// changes nothing; the rays that start in one cell ask for its list
-    /// once, for the one of them nearest the light, whose list holds the
+    /// once, for the one of them farthest from the light, whose list holds the
     /// others'.
     pub fn occluded_toward(
         &self,
@@ -102,7 +102,7 @@ impl Prepared {
                 }
             }
             // The lanes in a cell together: the cell's zones, listed for
-            // the lane nearest the light (the longest list), tried once.
+            // the lane farthest from the light (the longest list), tried once.
             // Each lane's place as `LightBuffer::place` finds it, operation
             // for operation: the cell's number (or -1 off the grid, -2 for a
             // point that is not a number) and the depth.
@@ -133,8 +133,11 @@ impl Prepared {
                 } else {
                     Place::Cell(c as u32)
                 };
-                let nearest = s.min_lane(s.select(s.mask(group), depth, s.splat(f64::INFINITY)));
-                let cands = buf.candidates(place, nearest);
+                // A depth that is not a number (an origin far off at
+                // infinity) lists every zone, as it does for the ray alone.
+                let depth = s.select(s.eq(depth, depth), depth, s.splat(f64::NEG_INFINITY));
+                let farthest = s.min_lane(s.select(s.mask(group), depth, s.splat(f64::INFINITY)));
+                let cands = buf.candidates(place, farthest);
                 for zi in self.unbounded_opaque.iter().copied().chain(cands.all()) {
                     if sc.tested[zi as usize] == sc.packet {
                         continue;

@@ -343,13 +343,19 @@ fn packets_find_the_hits_of_rays_traced_one_by_one() {
                 assert!(same(&one, &many[..m]), "{how}, batch {batch}");
             };
             check("list, four portable lanes", &mut |o| {
-                p.rays_in_packets(Portable, Some(&sorted), &rays, tmin, inf, &mut s, o)
+                p.rays_in_packets(Portable::<4>, Some(&sorted), &rays, tmin, inf, &mut s, o)
+            });
+            check("list, eight portable lanes", &mut |o| {
+                p.rays_in_packets(Portable::<8>, Some(&sorted), &rays, tmin, inf, &mut s, o)
             });
             check("walk, ray by ray", &mut |o| {
                 p.walk_one_by_one(&rays, tmin, inf, &mut s, o)
             });
             check("walk, four portable lanes", &mut |o| {
-                p.rays_in_packets(Portable, None, &rays, tmin, inf, &mut s, o)
+                p.rays_in_packets(Portable::<4>, None, &rays, tmin, inf, &mut s, o)
+            });
+            check("walk, eight portable lanes", &mut |o| {
+                p.rays_in_packets(Portable::<8>, None, &rays, tmin, inf, &mut s, o)
             });
             #[cfg(target_arch = "x86_64")]
             {
@@ -417,6 +423,14 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
                     None,
                 )
             }));
+            // Origins that are not numbers or lie at infinity, and one far
+            // off the light buffer's grid.
+            from.extend([
+                (DVec3::new(f64::NAN, 0.1, 0.2), None),
+                (DVec3::new(0.3, f64::INFINITY, -0.2), None),
+                (DVec3::new(f64::NEG_INFINITY, 0.0, 0.0), None),
+                (DVec3::splat(1e30), None),
+            ]);
             // The sun along an axis now and then: shadow rays in face
             // planes, infinite reciprocals.
             let toward = if batch % 4 == 0 {
@@ -445,13 +459,38 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
             }));
             blocked += one.iter().filter(|&&b| b).count();
             tested += one.len();
-            many.clear();
-            many.resize(from.len(), false);
-            p.occluded_in_packets(Portable, &lb, &from, tmin, &mut last, &mut s, &mut many);
+            // Each path starts from the wrong answers: one that leaves a
+            // ray alone fails.
+            let wrong = |many: &mut Vec<bool>| {
+                many.clear();
+                many.extend(one.iter().map(|b| !b));
+            };
+            wrong(&mut many);
+            p.occluded_in_packets(
+                Portable::<4>,
+                &lb,
+                &from,
+                tmin,
+                &mut last,
+                &mut s,
+                &mut many,
+            );
             assert_eq!(one, many, "four portable lanes, batch {batch}");
+            wrong(&mut many);
+            p.occluded_in_packets(
+                Portable::<8>,
+                &lb,
+                &from,
+                tmin,
+                &mut last,
+                &mut s,
+                &mut many,
+            );
+            assert_eq!(one, many, "eight portable lanes, batch {batch}");
             #[cfg(target_arch = "x86_64")]
             {
                 if let Some(t) = crate::simd::Avx512::detect() {
+                    wrong(&mut many);
                     // SAFETY: the token proves the instructions are there.
                     unsafe {
                         occluded_avx512(&p, t, &lb, &from, tmin, &mut last, &mut s, &mut many)
@@ -459,6 +498,7 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
                     assert_eq!(one, many, "AVX-512, batch {batch}");
                 }
                 if let Some(t) = crate::simd::Avx2::detect() {
+                    wrong(&mut many);
                     // SAFETY: as above.
                     unsafe { occluded_avx2(&p, t, &lb, &from, tmin, &mut last, &mut s, &mut many) };
                     assert_eq!(one, many, "AVX2, batch {batch}");
@@ -628,9 +668,10 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                             "{how} normals, view {view}, {tile:?}"
                         );
                     };
+                    // Each path into fresh buffers: none sees another's.
                     let mut got = Traced::new(tile.len());
                     let m = p.tile_in_packets(
-                        Portable,
+                        Portable::<4>,
                         &gen,
                         tile,
                         zones,
@@ -642,11 +683,26 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                         &mut got.normals,
                     );
                     check("four portable lanes", &got, m);
+                    let mut got = Traced::new(tile.len());
+                    let m = p.tile_in_packets(
+                        Portable::<8>,
+                        &gen,
+                        tile,
+                        zones,
+                        0.0,
+                        inf,
+                        &mut s,
+                        &mut got.hits,
+                        &mut got.rays,
+                        &mut got.normals,
+                    );
+                    check("eight portable lanes", &got, m);
                     #[cfg(target_arch = "x86_64")]
                     {
                         // SAFETY (both): the tokens prove the instructions
                         // are there.
                         if let Some(t) = crate::simd::Avx512::detect() {
+                            let mut got = Traced::new(tile.len());
                             let m = unsafe {
                                 tile_avx512(
                                     &p,
@@ -665,6 +721,7 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                             check("AVX-512", &got, m);
                         }
                         if let Some(t) = crate::simd::Avx2::detect() {
+                            let mut got = Traced::new(tile.len());
                             let m = unsafe {
                                 tile_avx2(
                                     &p,
@@ -690,5 +747,104 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
     assert!(
         hits_seen * 5 > pixels,
         "{hits_seen} hits of {pixels} pixels"
+    );
+}
+
+#[test]
+fn the_public_calls_answer_as_the_rays_one_by_one_with_packets_or_without() {
+    // Whatever lanes this processor has: each call as the renderer makes
+    // it, against the same geometry with packets turned off.
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(33);
+    let inf = f64::INFINITY;
+    let (mut hits_seen, mut blocked) = (0, 0);
+    for i in 0..6 {
+        let g = geometry(&mut rng, i % 2 == 0, None);
+        let with = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let mut without = with.clone();
+        without.packets = false;
+        let all: Vec<u32> = (0..with.zones.len() as u32).collect();
+        let mut s = Scratch::new(&with);
+        let mut sorted = Vec::new();
+        let (mut a, mut b) = (Traced::new(0), Traced::new(0));
+        for batch in 0..30 {
+            let (rays, eye, parallel) = rays(&mut rng, batch);
+            if batch % 5 < 2 {
+                sorted.clear();
+                sorted.extend(all.iter().map(|&z| (f64::NEG_INFINITY, z)));
+            } else {
+                with.by_distance(&all, eye, parallel, &mut sorted);
+            }
+            let n = with.first_hits_in(&sorted, &rays, 0.0, inf, &mut s, &mut a.hits);
+            let m = without.first_hits_in(&sorted, &rays, 0.0, inf, &mut s, &mut b.hits);
+            assert!(same(&a.hits[..n], &b.hits[..m]), "list, batch {batch}");
+            let n = with.first_hits(&rays, 0.0, inf, &mut s, &mut a.hits);
+            let m = without.first_hits(&rays, 0.0, inf, &mut s, &mut b.hits);
+            assert!(same(&a.hits[..n], &b.hits[..m]), "walk, batch {batch}");
+            hits_seen += n;
+
+            let from: Vec<(DVec3, Option<u32>)> = b.hits[..m]
+                .iter()
+                .map(|(k, h)| (rays[*k as usize].at(h.t), with.shadow_skip(h)))
+                .collect();
+            let lb = LightBuffer::new(&with, DVec3::new(0.3, -0.5, 0.8));
+            let (mut x, mut y) = (Vec::new(), Vec::new());
+            let tmin = 10.0 * with.tol;
+            with.occluded_toward(&lb, &from, tmin, &mut None, &mut s, &mut x);
+            without.occluded_toward(&lb, &from, tmin, &mut None, &mut s, &mut y);
+            assert_eq!(x, y, "shadows, batch {batch}");
+            blocked += x.iter().filter(|&&b| b).count();
+
+            let forward = (DVec3::new(0.1, -0.2, 0.05) - eye).normalize();
+            let (r, u) = sv_math::orthonormal_basis(forward);
+            let ortho = batch % 2 == 0;
+            let gen = RayGen::new(eye, r * 1.2, u, forward, ortho, 21, 19);
+            let tile = Tile {
+                x0: 3,
+                x1: 21,
+                y0: 2,
+                y1: 19,
+            };
+            for zones in [Some(&sorted[..]), None] {
+                let n = with.tile_hits(
+                    &gen,
+                    tile,
+                    zones,
+                    0.0,
+                    inf,
+                    &mut s,
+                    &mut a.hits,
+                    &mut a.rays,
+                    &mut a.normals,
+                );
+                let m = without.tile_hits(
+                    &gen,
+                    tile,
+                    zones,
+                    0.0,
+                    inf,
+                    &mut s,
+                    &mut b.hits,
+                    &mut b.rays,
+                    &mut b.normals,
+                );
+                let (x, y) = (a.sorted(n), b.sorted(m));
+                assert!(same(&x.hits, &y.hits), "tile, batch {batch}");
+                assert!(
+                    same_bits(&x.normals, &y.normals),
+                    "tile normals, batch {batch}"
+                );
+                assert!(
+                    x.rays.iter().zip(&y.rays).all(|(p, q)| same_bits(
+                        &[p.origin, p.dir, p.inv_dir],
+                        &[q.origin, q.dir, q.inv_dir]
+                    )),
+                    "tile rays, batch {batch}"
+                );
+            }
+        }
+    }
+    assert!(
+        hits_seen > 1000 && blocked > 100,
+        "{hits_seen} hits, {blocked} blocked"
     );
 }

@@ -425,33 +425,42 @@ impl Prepared {
         out: &mut Vec<(f64, u32)>,
     ) {
         out.clear();
-        let base = parallel.map_or(0.0, |d| eye.dot(d));
-        out.extend(zones.iter().map(|&zi| {
-            let b = &self.zones[zi as usize].bounds;
-            let mut near = match parallel {
-                None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
-                Some(d) => {
-                    // The box corner furthest against `d`.
-                    let p = DVec3::new(
-                        if d.x > 0.0 { b.min.x } else { b.max.x },
-                        if d.y > 0.0 { b.min.y } else { b.max.y },
-                        if d.z > 0.0 { b.min.z } else { b.max.z },
-                    );
-                    p.dot(d) - base
-                }
-            };
-            // A ball inside the box may lie farther off than the box.
-            if let Tighter::Ball(c, r) = self.tighter(zi) {
-                let ball = match parallel {
-                    None => (c - eye).length() - r,
-                    Some(d) => c.dot(d) - r - base,
-                };
-                near = near.max(ball);
-            }
-            // Rounding slack keeps the bound a bound.
-            (near - 1e-9 * (near.abs() + base.abs()), zi)
-        }));
+        out.extend(
+            zones
+                .iter()
+                .map(|&zi| (self.entry_bound(zi, eye, parallel), zi)),
+        );
         out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    }
+
+    /// The lower bound of where the rays of [`Prepared::by_distance`] can
+    /// enter zone `zi`'s bounds.
+    #[inline]
+    pub fn entry_bound(&self, zi: u32, eye: DVec3, parallel: Option<DVec3>) -> f64 {
+        let base = parallel.map_or(0.0, |d| eye.dot(d));
+        let b = &self.zones[zi as usize].bounds;
+        let mut near = match parallel {
+            None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
+            Some(d) => {
+                // The box corner furthest against `d`.
+                let p = DVec3::new(
+                    if d.x > 0.0 { b.min.x } else { b.max.x },
+                    if d.y > 0.0 { b.min.y } else { b.max.y },
+                    if d.z > 0.0 { b.min.z } else { b.max.z },
+                );
+                p.dot(d) - base
+            }
+        };
+        // A ball inside the box may lie farther off than the box.
+        if let Tighter::Ball(c, r) = self.tighter(zi) {
+            let ball = match parallel {
+                None => (c - eye).length() - r,
+                Some(d) => c.dot(d) - r - base,
+            };
+            near = near.max(ball);
+        }
+        // Rounding slack keeps the bound a bound.
+        near - 1e-9 * (near.abs() + base.abs())
     }
 
     /// Test one zone for the first hit, keeping the best so far: the lowest

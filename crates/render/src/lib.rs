@@ -38,11 +38,9 @@ const MAX_SHADOW_ZONES: usize = 8;
 struct Workspace<'a> {
     /// Ray scratch.
     s: Scratch,
-    /// The tile's candidate zones.
-    cands: Vec<u32>,
     /// The zones of the band's tiles.
     lists: BandLists,
-    /// The same with a lower bound of their entry distance, sorted.
+    /// The tile's zones with their entry bounds, sorted.
     sorted: Vec<(f64, u32)>,
     /// The raster positions of the tile's primary rays, and the rays.
     pts: Vec<[f64; 2]>,
@@ -82,7 +80,6 @@ impl<'a> Workspace<'a> {
         let lights = lights.len();
         Workspace {
             s: Scratch::new(p),
-            cands: Vec::new(),
             lists: BandLists::default(),
             sorted: Vec::new(),
             pts: Vec::new(),
@@ -104,15 +101,40 @@ impl<'a> Workspace<'a> {
     }
 }
 
+/// Where the zones may be seen on a frame's raster ([`Renderer::zone_bins`]),
+/// each with the lower bound of where the camera's rays can enter it
+/// ([`Prepared::entry_bound`]).
+struct Bins {
+    /// The unbounded opaque zones, which every tile lists.
+    lead: Vec<(f64, u32)>,
+    /// Per band of tiles, its bounded zones.
+    bands: Vec<Vec<Binned>>,
+}
+
+/// The order of [`Prepared::by_distance`]: by entry bound, then by zone.
+fn by_entry(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
+/// A zone in a band: its entry bound and number, and the columns of the
+/// raster it spans (−∞ to ∞ when it may be seen anywhere).
+#[derive(Clone, Copy)]
+struct Binned {
+    near: f64,
+    zi: u32,
+    x0: f64,
+    x1: f64,
+}
+
 /// The zones each tile of a band (a row of tiles) may meet.
 #[derive(Default)]
 struct BandLists {
     /// The tiles' frusta, made for zones seen anywhere.
     frusta: Vec<Frustum>,
-    /// Per tile, its zones, and whether it has more than
-    /// [`MAX_TILE_ZONES`] (its list is then incomplete, and its rays walk
-    /// the hierarchy).
-    tiles: Vec<Vec<u32>>,
+    /// Per tile, its zones with their entry bounds, and whether it has more
+    /// than [`MAX_TILE_ZONES`] (its list is then incomplete, and its rays
+    /// walk the hierarchy).
+    tiles: Vec<Vec<(f64, u32)>>,
     over: Vec<bool>,
 }
 
@@ -315,29 +337,40 @@ impl Renderer {
     /// ([`Prepared::zone_rect`]) reaches it, with the columns it spans,
     /// padded for rounding. Zones seen nowhere on the
     /// raster are left out; zones that may be seen anywhere are in every
-    /// band. Made once a frame, in parallel: a walk of the hierarchy per
+    /// band. Each comes with its entry bound for rays from `eye` (along
+    /// `parallel`, orthographic), found here once rather than in every tile
+    /// that lists it, where reading the zone's bounds again missed the
+    /// cache. Made once a frame, in parallel: a walk of the hierarchy per
     /// tile took a fifth of the time of a frame of 10,000 spheres, and a walk
     /// per band with each zone's tiles' frusta tested a third of that of
     /// 100,000.
-    fn zone_bins(&self, gen: &RayGen, w: usize, h: usize) -> Vec<Vec<(u32, f64, f64)>> {
+    fn zone_bins(
+        &self,
+        gen: &RayGen,
+        (eye, parallel): (DVec3, Option<DVec3>),
+        w: usize,
+        h: usize,
+    ) -> Bins {
         let p = &self.prepared;
         let (wf, hf) = (w as f64, h as f64);
-        let rects: Vec<Seen> = p
+        let seen: Vec<(Seen, f64)> = p
             .bounded_opaque_zones()
             .par_iter()
             .with_min_len(1024)
-            .map(|&zi| p.zone_rect(zi, gen))
+            .map(|&zi| (p.zone_rect(zi, gen), p.entry_bound(zi, eye, parallel)))
             .collect();
-        let mut bins = vec![Vec::new(); h.div_ceil(TILE)];
-        let last = bins.len() - 1;
+        let mut bands = vec![Vec::new(); h.div_ceil(TILE)];
+        let last = bands.len() - 1;
         let band = |y: f64| ((y / TILE as f64).floor().max(0.0) as usize).min(last);
-        for (&zi, seen) in p.bounded_opaque_zones().iter().zip(rects) {
+        for (&zi, (seen, near)) in p.bounded_opaque_zones().iter().zip(seen) {
             let r = match seen {
                 Seen::Nowhere => continue,
                 Seen::Within(r) if r.iter().all(|v| v.is_finite()) => r,
                 _ => {
-                    bins.iter_mut()
-                        .for_each(|b| b.push((zi, f64::NEG_INFINITY, f64::INFINITY)));
+                    let (x0, x1) = (f64::NEG_INFINITY, f64::INFINITY);
+                    bands
+                        .iter_mut()
+                        .for_each(|b| b.push(Binned { near, zi, x0, x1 }));
                     continue;
                 }
             };
@@ -345,23 +378,36 @@ impl Renderer {
             if x1 < 0.0 || y1 < 0.0 || x0 > wf || y0 > hf || x0 > x1 || y0 > y1 {
                 continue;
             }
-            for b in &mut bins[band(y0)..=band(y1)] {
-                b.push((zi, x0, x1));
+            for b in &mut bands[band(y0)..=band(y1)] {
+                b.push(Binned { near, zi, x0, x1 });
             }
         }
-        bins
+        // Each band in the order of `Prepared::by_distance`, so that its
+        // tiles' lists come out in it.
+        bands.par_iter_mut().for_each(|b| {
+            b.sort_unstable_by(|a, b| a.near.total_cmp(&b.near).then(a.zi.cmp(&b.zi)))
+        });
+        let mut lead: Vec<(f64, u32)> = p
+            .unbounded_opaque()
+            .iter()
+            .map(|&zi| (p.entry_bound(zi, eye, parallel), zi))
+            .collect();
+        lead.sort_unstable_by(by_entry);
+        Bins { lead, bands }
     }
 
     /// The zones of the tiles of the band of raster rows `y0..y1`, from its
-    /// bin of [`Renderer::zone_bins`]: each zone in the tiles its columns
-    /// reach, after the unbounded zones, which lead every list. A zone that
+    /// bin of [`Renderer::zone_bins`] (and the unbounded zones, `lead`,
+    /// which every list holds): each zone in the tiles its columns reach,
+    /// with its entry bound. A zone that
     /// may be seen anywhere (it reaches behind the eye) goes only in the
     /// tiles whose frustum it may meet ([`Prepared::frustum_keeps`]). A tile
     /// with more than [`MAX_TILE_ZONES`] is marked (its list is then
     /// incomplete).
     fn band_lists(
         &self,
-        bin: &[(u32, f64, f64)],
+        lead: &[(f64, u32)],
+        bin: &[Binned],
         gen: &RayGen,
         w: usize,
         (y0, y1): (usize, usize),
@@ -372,13 +418,12 @@ impl Renderer {
         l.over.clear();
         l.over.resize(n, false);
         l.frusta.clear();
-        let lead = self.prepared.unbounded_opaque();
         for t in l.tiles.iter_mut() {
             t.clear();
             t.extend_from_slice(lead);
         }
         let tile = |x: f64| ((x / TILE as f64).floor().max(0.0) as usize).min(n - 1);
-        for &(zi, x0, x1) in bin {
+        for &Binned { near, zi, x0, x1 } in bin {
             let anywhere = x0 == f64::NEG_INFINITY;
             if anywhere && l.frusta.is_empty() {
                 let ray = |x: usize, y: usize| gen.ray(x as f64, y as f64);
@@ -391,7 +436,7 @@ impl Renderer {
                 if l.over[t] || (anywhere && !self.prepared.frustum_keeps(zi, &l.frusta[t])) {
                     continue;
                 }
-                l.tiles[t].push(zi);
+                l.tiles[t].push((near, zi));
                 l.over[t] = l.tiles[t].len() > MAX_TILE_ZONES;
             }
         }
@@ -547,8 +592,9 @@ impl Renderer {
             .lights
             .iter()
             .any(|l| matches!(l.kind, LightKind::Point { .. }));
+        let parallel = ortho.then(|| self.camera.dir.normalize());
         // Where each zone may be seen, binned by band of tiles.
-        let bins = self.zone_bins(&gen, w, h);
+        let bins = self.zone_bins(&gen, (self.camera.eye, parallel), w, h);
         let buffers = if st.shadows {
             self.light_buffers()
         } else {
@@ -569,7 +615,6 @@ impl Renderer {
             pool[i].lock().unwrap_or_else(|e| e.into_inner())
         };
         let make = || Workspace::new(&self.prepared, &self.lights, &buffers);
-        let parallel = ortho.then(|| self.camera.dir.normalize());
         // A tile row of background, copied whole (a fill writes it a
         // pixel at a time).
         let bg_row = [self.background.map(|v| v as f32); TILE];
@@ -602,14 +647,26 @@ impl Renderer {
                 // bound of where the rays can enter it: a ray stops at the
                 // first zone that cannot come nearer than its best hit. The
                 // answer is that of a full search.
-                self.band_lists(&bins[band], &gen, w, (y0, y0 + rows), &mut ws.lists);
+                self.band_lists(
+                    &bins.lead,
+                    &bins.bands[band],
+                    &gen,
+                    w,
+                    (y0, y0 + rows),
+                    &mut ws.lists,
+                );
                 for (tile, x0) in (0..w).step_by(TILE).enumerate() {
                     let x1 = (x0 + TILE).min(w);
                     let few = !ws.lists.over[tile];
-                    std::mem::swap(&mut ws.cands, &mut ws.lists.tiles[tile]);
-                    self.prepared
-                        .by_distance(&ws.cands, self.camera.eye, parallel, &mut ws.sorted);
-                    std::mem::swap(&mut ws.cands, &mut ws.lists.tiles[tile]);
+                    // In the order `Prepared::by_distance` gives: the band's,
+                    // after the unbounded zones, which may come anywhere in
+                    // it. A crowded tile's list is cut short and never read.
+                    if few {
+                        std::mem::swap(&mut ws.sorted, &mut ws.lists.tiles[tile]);
+                        if !bins.lead.is_empty() {
+                            ws.sorted.sort_unstable_by(by_entry);
+                        }
+                    }
                     // Primary rays of the whole tile first (none when no
                     // zone meets the tile: it is all background).
                     let mut found = 0;
@@ -929,10 +986,11 @@ mod tests {
         let (mut kept, mut extra, mut behind, mut overflowing) = (0, 0, 0, 0);
         for cam in cameras {
             let gen = cam.rays(w as u32, h as u32);
-            let bins = r.zone_bins(&gen, w, h);
+            let parallel = matches!(cam.lens, Lens::Ortho { .. }).then(|| cam.dir.normalize());
+            let bins = r.zone_bins(&gen, (cam.eye, parallel), w, h);
             for (band, y0) in (0..h).step_by(TILE).enumerate() {
                 let y1 = (y0 + TILE).min(h);
-                r.band_lists(&bins[band], &gen, w, (y0, y1), &mut lists);
+                r.band_lists(&bins.lead, &bins.bands[band], &gen, w, (y0, y1), &mut lists);
                 for (t, x0) in (0..w).step_by(TILE).enumerate() {
                     let x1 = (x0 + TILE).min(w);
                     let corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
@@ -945,6 +1003,15 @@ mod tests {
                         continue;
                     }
                     let list = &lists.tiles[t];
+                    // Each with its entry bound for the camera, the unbounded
+                    // zones first and the rest in the order of
+                    // `by_distance`.
+                    for &(near, z) in list {
+                        assert_eq!(near, r.prepared.entry_bound(z, cam.eye, parallel));
+                    }
+                    assert_eq!(list[..bins.lead.len()], bins.lead[..]);
+                    assert!(list[bins.lead.len()..].is_sorted_by(|a, b| by_entry(a, b).is_le()));
+                    let list: Vec<u32> = list.iter().map(|&(_, z)| z).collect();
                     for &z in &own {
                         if r.prepared.zone_rect(z, &gen) == Seen::Nowhere {
                             behind += 1;

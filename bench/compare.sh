@@ -208,8 +208,12 @@ body = open(summary).read().rstrip()
 text = text[:i] + f"\n(Written by bench/compare.sh from {res}.)\n\n" + body + "\n" + text[j:]
 open(doc, "w").write(text)
 PY
-  [ -f "$RES/scaling.png" ] && mkdir -p "$ROOT/docs" && cp "$RES/scaling.png" "$ROOT/docs/scaling.png"
-  echo "updated BENCHMARKS.md and docs/scaling.png" >&2
+  if [ -f "$RES/scaling.png" ]; then
+    mkdir -p "$ROOT/docs" && cp "$RES/scaling.png" "$ROOT/docs/scaling.png"
+    echo "updated BENCHMARKS.md and docs/scaling.png" >&2
+  else
+    echo "updated BENCHMARKS.md; docs/scaling.png left as it was (no plot)" >&2
+  fi
 fi
 echo >&2
 echo "results: $RES" >&2

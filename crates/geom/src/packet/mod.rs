@@ -34,6 +34,44 @@ use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
+/// The entry points of a packet method, one per instruction set:
+/// `$avx512` and `$avx2` call `Prepared::$method` with the token, compiled
+/// with that instruction set enabled, so that everything inlined into them
+/// uses it.
+macro_rules! compiled_for_each {
+    (fn $avx512:ident, $avx2:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?) => {
+        #[doc = concat!("[`Prepared::", stringify!($method), "`] compiled for AVX-512.")]
+        ///
+        /// # Safety
+        /// The processor must have AVX-512F (the token's existence proves it).
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx512f")]
+        #[allow(clippy::too_many_arguments)]
+        pub(super) unsafe fn $avx512(
+            p: &Prepared,
+            t: crate::simd::Avx512,
+            $($arg: $ty),*
+        ) $(-> $ret)? {
+            p.$method(t, $($arg),*)
+        }
+
+        #[doc = concat!("[`Prepared::", stringify!($method), "`] compiled for AVX2.")]
+        ///
+        /// # Safety
+        /// The processor must have AVX2 (the token's existence proves it).
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        #[allow(clippy::too_many_arguments)]
+        pub(super) unsafe fn $avx2(
+            p: &Prepared,
+            t: crate::simd::Avx2,
+            $($arg: $ty),*
+        ) $(-> $ret)? {
+            p.$method(t, $($arg),*)
+        }
+    };
+}
+
 mod primary;
 mod shadow;
 

@@ -591,88 +591,27 @@ fn child_lanes<S: Simd>(
     (t0, s.le(t0, t1))
 }
 
-/// [`Prepared::rays_in_packets`] compiled for AVX-512.
-///
-/// # Safety
-/// The processor must have AVX-512F (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn rays_avx512(
-    p: &Prepared,
-    t: crate::simd::Avx512,
-    zones: Option<&[(f64, u32)]>,
-    rays: &[Ray],
-    tmin: f64,
-    tmax: f64,
-    s: &mut Scratch,
-    out: &mut [(u32, Hit)],
-) -> usize {
-    p.rays_in_packets(t, zones, rays, tmin, tmax, s, out)
+compiled_for_each! {
+    fn rays_avx512, rays_avx2 => rays_in_packets(
+        zones: Option<&[(f64, u32)]>,
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [(u32, Hit)],
+    ) -> usize
 }
 
-/// [`Prepared::rays_in_packets`] compiled for AVX2.
-///
-/// # Safety
-/// The processor must have AVX2 (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn rays_avx2(
-    p: &Prepared,
-    t: crate::simd::Avx2,
-    zones: Option<&[(f64, u32)]>,
-    rays: &[Ray],
-    tmin: f64,
-    tmax: f64,
-    s: &mut Scratch,
-    out: &mut [(u32, Hit)],
-) -> usize {
-    p.rays_in_packets(t, zones, rays, tmin, tmax, s, out)
-}
-
-/// [`Prepared::tile_in_packets`] compiled for AVX-512.
-///
-/// # Safety
-/// The processor must have AVX-512F (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn tile_avx512(
-    p: &Prepared,
-    t: crate::simd::Avx512,
-    gen: &RayGen,
-    tile: Tile,
-    zones: Option<&[(f64, u32)]>,
-    tmin: f64,
-    tmax: f64,
-    s: &mut Scratch,
-    hits: &mut [(u32, Hit)],
-    rays: &mut [Ray],
-    normals: &mut [DVec3],
-) -> usize {
-    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays, normals)
-}
-
-/// [`Prepared::tile_in_packets`] compiled for AVX2.
-///
-/// # Safety
-/// The processor must have AVX2 (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn tile_avx2(
-    p: &Prepared,
-    t: crate::simd::Avx2,
-    gen: &RayGen,
-    tile: Tile,
-    zones: Option<&[(f64, u32)]>,
-    tmin: f64,
-    tmax: f64,
-    s: &mut Scratch,
-    hits: &mut [(u32, Hit)],
-    rays: &mut [Ray],
-    normals: &mut [DVec3],
-) -> usize {
-    p.tile_in_packets(t, gen, tile, zones, tmin, tmax, s, hits, rays, normals)
+compiled_for_each! {
+    fn tile_avx512, tile_avx2 => tile_in_packets(
+        gen: &RayGen,
+        tile: Tile,
+        zones: Option<&[(f64, u32)]>,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        hits: &mut [(u32, Hit)],
+        rays: &mut [Ray],
+        normals: &mut [DVec3],
+    ) -> usize
 }

@@ -278,42 +278,13 @@ fn r_dir<S: Simd>(s: S, r: &Lanes<S>) -> (DVec3, DVec3) {
     )
 }
 
-/// [`Prepared::occluded_in_packets`] compiled for AVX-512.
-///
-/// # Safety
-/// The processor must have AVX-512F (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn occluded_avx512(
-    p: &Prepared,
-    t: crate::simd::Avx512,
-    buf: &LightBuffer,
-    from: &[(DVec3, Option<u32>)],
-    tmin: f64,
-    last: &mut Option<u32>,
-    s: &mut Scratch,
-    out: &mut [bool],
-) {
-    p.occluded_in_packets(t, buf, from, tmin, last, s, out)
-}
-
-/// [`Prepared::occluded_in_packets`] compiled for AVX2.
-///
-/// # Safety
-/// The processor must have AVX2 (the token's existence proves it).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn occluded_avx2(
-    p: &Prepared,
-    t: crate::simd::Avx2,
-    buf: &LightBuffer,
-    from: &[(DVec3, Option<u32>)],
-    tmin: f64,
-    last: &mut Option<u32>,
-    s: &mut Scratch,
-    out: &mut [bool],
-) {
-    p.occluded_in_packets(t, buf, from, tmin, last, s, out)
+compiled_for_each! {
+    fn occluded_avx512, occluded_avx2 => occluded_in_packets(
+        buf: &LightBuffer,
+        from: &[(DVec3, Option<u32>)],
+        tmin: f64,
+        last: &mut Option<u32>,
+        s: &mut Scratch,
+        out: &mut [bool],
+    )
 }

@@ -335,15 +335,15 @@ impl Renderer {
     /// Where the bounded opaque zones may be seen on the raster of `gen`
     /// (`w`×`h` pixels): for each band of tiles, the zones whose rectangle
     /// ([`Prepared::zone_rect`]) reaches it, with the columns it spans,
-    /// padded for rounding. Zones seen nowhere on the
-    /// raster are left out; zones that may be seen anywhere are in every
-    /// band. Each comes with its entry bound for rays from `eye` (along
-    /// `parallel`, orthographic), found here once rather than in every tile
-    /// that lists it, where reading the zone's bounds again missed the
-    /// cache. Made once a frame, in parallel: a walk of the hierarchy per
-    /// tile took a fifth of the time of a frame of 10,000 spheres, and a walk
-    /// per band with each zone's tiles' frusta tested a third of that of
-    /// 100,000.
+    /// padded for rounding. Zones seen nowhere on the raster are left out;
+    /// zones that may be seen anywhere are in every band. Each comes with
+    /// its entry bound for rays from `eye` (along `parallel`, orthographic),
+    /// found here once rather than in every tile that lists it, where
+    /// reading the zone's bounds again missed the cache; each band is in
+    /// the order of [`Prepared::by_distance`]. Made once a frame, in
+    /// parallel: a walk of the hierarchy per tile took a fifth of the time
+    /// of a frame of 10,000 spheres, and a walk per band with each zone's
+    /// tiles' frusta tested a third of that of 100,000.
     fn zone_bins(
         &self,
         gen: &RayGen,
@@ -384,9 +384,9 @@ impl Renderer {
         }
         // Each band in the order of `Prepared::by_distance`, so that its
         // tiles' lists come out in it.
-        bands.par_iter_mut().for_each(|b| {
-            b.sort_unstable_by(|a, b| a.near.total_cmp(&b.near).then(a.zi.cmp(&b.zi)))
-        });
+        bands
+            .par_iter_mut()
+            .for_each(|b| b.sort_unstable_by(|a, b| by_entry(&(a.near, a.zi), &(b.near, b.zi))));
         let mut lead: Vec<(f64, u32)> = p
             .unbounded_opaque()
             .iter()
@@ -397,13 +397,12 @@ impl Renderer {
     }
 
     /// The zones of the tiles of the band of raster rows `y0..y1`, from its
-    /// bin of [`Renderer::zone_bins`] (and the unbounded zones, `lead`,
+    /// bin of [`Renderer::zone_bins`] (after the unbounded zones, `lead`,
     /// which every list holds): each zone in the tiles its columns reach,
-    /// with its entry bound. A zone that
-    /// may be seen anywhere (it reaches behind the eye) goes only in the
-    /// tiles whose frustum it may meet ([`Prepared::frustum_keeps`]). A tile
-    /// with more than [`MAX_TILE_ZONES`] is marked (its list is then
-    /// incomplete).
+    /// with its entry bound, in the bin's order. A zone that may be seen
+    /// anywhere (it reaches behind the eye) goes only in the tiles whose
+    /// frustum it may meet ([`Prepared::frustum_keeps`]). A tile with more
+    /// than [`MAX_TILE_ZONES`] is marked (its list is then incomplete).
     fn band_lists(
         &self,
         lead: &[(f64, u32)],

@@ -354,7 +354,8 @@ mod x86 {
         }
         #[inline(always)]
         fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
-            assert!(stride.checked_mul(7).and_then(|s| s.checked_add(first)) < Some(v.len()));
+            let last = stride.checked_mul(7).and_then(|s| s.checked_add(first));
+            assert!(last.is_some_and(|l| l < v.len()));
             let s = stride as i64;
             unsafe {
                 let at = _mm512_setr_epi64(0, s, 2 * s, 3 * s, 4 * s, 5 * s, 6 * s, 7 * s);
@@ -483,7 +484,8 @@ mod x86 {
         }
         #[inline(always)]
         fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
-            assert!(stride.checked_mul(3).and_then(|s| s.checked_add(first)) < Some(v.len()));
+            let last = stride.checked_mul(3).and_then(|s| s.checked_add(first));
+            assert!(last.is_some_and(|l| l < v.len()));
             let s = stride as i64;
             unsafe {
                 let at = _mm256_setr_epi64x(0, s, 2 * s, 3 * s);

@@ -96,7 +96,7 @@ impl Prepared {
             // the zone's test: its intrinsics would stay calls.)
             if let Some(zi) = *last {
                 sc.tested[zi as usize] = sc.packet;
-                let b = self.blocks(s, zi, &r, chunk, active, skip, tmin, sc);
+                let b = self.blocks(s, zi, &r, &along, chunk, active, skip, tmin, sc);
                 if b != 0 {
                     (blocked, blocker) = (b, Some(zi));
                 }
@@ -143,7 +143,8 @@ impl Prepared {
                         continue;
                     }
                     sc.tested[zi as usize] = sc.packet;
-                    let b = self.blocks(s, zi, &r, chunk, active & !blocked, skip, tmin, sc);
+                    let b =
+                        self.blocks(s, zi, &r, &along, chunk, active & !blocked, skip, tmin, sc);
                     if b != 0 {
                         (blocked, blocker) = (blocked | b, Some(zi));
                         if group & !blocked == 0 {
@@ -161,7 +162,8 @@ impl Prepared {
 
     /// The lanes of `mask` whose shadow rays zone `zi` blocks beyond `tmin`
     /// (not those that skip it): [`Prepared::any_opaque`]'s test of one
-    /// zone, in the lanes where the zone allows it, else by the scalar code.
+    /// zone, in the lanes where the zone allows it, else by the scalar code
+    /// (the rays `along` from each point of `from`).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn blocks<S: Simd>(
@@ -169,6 +171,7 @@ impl Prepared {
         s: S,
         zi: u32,
         r: &Lanes<S>,
+        along: &Ray,
         from: &[(DVec3, Option<u32>)],
         mask: u32,
         skip: S::F,
@@ -192,7 +195,7 @@ impl Prepared {
             (0, s.bits(m))
         };
         if scalar != 0 {
-            found |= self.blocks_one_by_one(z, from, scalar, tmin, r_dir(s, r), sc);
+            found |= self.blocks_one_by_one(z, from, along, scalar, tmin, sc);
         }
         found
     }
@@ -203,9 +206,9 @@ impl Prepared {
         &self,
         z: &PZone,
         from: &[(DVec3, Option<u32>)],
+        along: &Ray,
         lanes: u32,
         tmin: f64,
-        (dir, inv_dir): (DVec3, DVec3),
         sc: &mut Scratch,
     ) -> u32 {
         let mut found = 0;
@@ -213,11 +216,7 @@ impl Prepared {
             if lanes & (1 << j) == 0 {
                 continue;
             }
-            let ray = Ray {
-                origin,
-                dir,
-                inv_dir,
-            };
+            let ray = Ray { origin, ..*along };
             sc.new_ray();
             if self.zone_spans(z, &ray, tmin, f64::INFINITY, sc) {
                 found |= 1 << j;
@@ -254,28 +253,6 @@ fn places<S: Simd>(s: S, g: &Grid, r: &Lanes<S>) -> (S::F, S::F) {
     );
     let cell = s.select(on, cell, s.splat(OFF));
     (s.select(number, cell, s.splat(NOWHERE)), depth)
-}
-
-/// The direction shared by a packet's lanes (shadow rays toward a
-/// parallel light), and its reciprocal, from the first lane.
-#[inline(always)]
-fn r_dir<S: Simd>(s: S, r: &Lanes<S>) -> (DVec3, DVec3) {
-    let (d, inv) = (
-        [
-            Spill::of(s, r.d[0]),
-            Spill::of(s, r.d[1]),
-            Spill::of(s, r.d[2]),
-        ],
-        [
-            Spill::of(s, r.inv[0]),
-            Spill::of(s, r.inv[1]),
-            Spill::of(s, r.inv[2]),
-        ],
-    );
-    (
-        DVec3::new(d[0].0[0], d[1].0[0], d[2].0[0]),
-        DVec3::new(inv[0].0[0], inv[1].0[0], inv[2].0[0]),
-    )
 }
 
 compiled_for_each! {

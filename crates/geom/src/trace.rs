@@ -43,6 +43,15 @@ impl Scratch {
         }
     }
 
+    /// Begin a packet of shadow rays: no zone is yet tested for it.
+    pub(crate) fn new_packet(&mut self) {
+        self.packet = self.packet.wrapping_add(1);
+        if self.packet == 0 {
+            self.tested.iter_mut().for_each(|t| *t = 0);
+            self.packet = 1;
+        }
+    }
+
     /// Forget the previous ray's cached body segments.
     pub(crate) fn new_ray(&mut self) {
         self.ray_id = self.ray_id.wrapping_add(1);

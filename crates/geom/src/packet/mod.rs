@@ -373,15 +373,31 @@ pub(crate) fn not<S: Simd>(s: S, m: S::M) -> S::M {
 /// [`crate::bvh`]'s `hits`, operation for operation.
 #[inline(always)]
 fn box_lanes<S: Simd>(s: S, b: &Aabb, r: &Lanes<S>, tmin: S::F, tmax: S::F) -> S::M {
+    let (lo, hi) = (b.min.to_array(), b.max.to_array());
+    slab_lanes(s, lo, hi, r, tmin, tmax).1
+}
+
+/// The slab test of the box `lo`..`hi` in every lane: each lane's entry
+/// (the greatest of `tmin` and the slabs' near ends) and the lanes whose
+/// ray meets the box within `[tmin, tmax]`.
+#[inline(always)]
+pub(crate) fn slab_lanes<S: Simd>(
+    s: S,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    r: &Lanes<S>,
+    tmin: S::F,
+    tmax: S::F,
+) -> (S::F, S::M) {
     let mut t0 = tmin;
     let mut t1 = tmax;
     for a in 0..3 {
-        let x0 = s.mul(s.sub(s.splat(b.min[a]), r.o[a]), r.inv[a]);
-        let x1 = s.mul(s.sub(s.splat(b.max[a]), r.o[a]), r.inv[a]);
+        let x0 = s.mul(s.sub(s.splat(lo[a]), r.o[a]), r.inv[a]);
+        let x1 = s.mul(s.sub(s.splat(hi[a]), r.o[a]), r.inv[a]);
         t0 = s.max(s.min(x0, x1), t0);
         t1 = s.min(s.max(x0, x1), t1);
     }
-    s.le(t0, t1)
+    (t0, s.le(t0, t1))
 }
 
 impl Shape {
@@ -731,7 +747,7 @@ fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> C
     Cut {
         one: pick_span(s, m, pick_span(s, before, before_span, after_span), p),
         other: after_span,
-        some: s.or(s.andnot(s.mask(u32::MAX), m), s.or(before, after)),
+        some: s.or(not(s, m), s.or(before, after)),
         both: s.and(m, s.and(before, after)),
     }
 }

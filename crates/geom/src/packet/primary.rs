@@ -1,7 +1,7 @@
 //! Primary rays: a tile's rays traced in packets through its sorted list
 //! of zones, or through the hierarchy when the tile is crowded.
 
-use super::{dot, lane_rays, splat3, Best, Lanes, MAX_LANES};
+use super::{dot, lane_rays, slab_lanes, splat3, Best, Lanes, MAX_LANES};
 use crate::bvh::{Child, WideNode, STACK, WIDTH};
 use crate::prepare::Prepared;
 use crate::simd::Simd;
@@ -580,15 +580,9 @@ fn child_lanes<S: Simd>(
     tmin: S::F,
     tmax: S::F,
 ) -> (S::F, S::M) {
-    let mut t0 = tmin;
-    let mut t1 = tmax;
-    for a in 0..3 {
-        let x0 = s.mul(s.sub(s.splat(n.lo[a][k]), r.o[a]), r.inv[a]);
-        let x1 = s.mul(s.sub(s.splat(n.hi[a][k]), r.o[a]), r.inv[a]);
-        t0 = s.max(s.min(x0, x1), t0);
-        t1 = s.min(s.max(x0, x1), t1);
-    }
-    (t0, s.le(t0, t1))
+    let lo = [n.lo[0][k], n.lo[1][k], n.lo[2][k]];
+    let hi = [n.hi[0][k], n.hi[1][k], n.hi[2][k]];
+    slab_lanes(s, lo, hi, r, tmin, tmax)
 }
 
 compiled_for_each! {

@@ -84,11 +84,7 @@ impl Prepared {
                 inv,
             };
             let skip = s.load(&v[3]);
-            sc.packet = sc.packet.wrapping_add(1);
-            if sc.packet == 0 {
-                sc.tested.iter_mut().for_each(|t| *t = 0);
-                sc.packet = 1;
-            }
+            sc.new_packet();
             let active = (1u32 << chunk.len()) - 1;
             let (mut blocked, mut blocker) = (0, None);
             // The zone that blocked the last shadow ray first: neighbouring
@@ -107,6 +103,9 @@ impl Prepared {
             // for operation: the cell's number (or -1 off the grid, -2 for a
             // point that is not a number) and the depth.
             let (cell, depth) = places(s, &grid, &r);
+            // A depth that is not a number (an origin far off at infinity)
+            // lists every zone, as it does for the ray alone.
+            let depth = s.select(s.eq(depth, depth), depth, s.splat(f64::NEG_INFINITY));
             let cells = Spill::of(s, cell);
             let mut todo = active;
             while todo != 0 {
@@ -133,9 +132,6 @@ impl Prepared {
                 } else {
                     Place::Cell(c as u32)
                 };
-                // A depth that is not a number (an origin far off at
-                // infinity) lists every zone, as it does for the ray alone.
-                let depth = s.select(s.eq(depth, depth), depth, s.splat(f64::NEG_INFINITY));
                 let farthest = s.min_lane(s.select(s.mask(group), depth, s.splat(f64::INFINITY)));
                 let cands = buf.candidates(place, farthest);
                 for zi in self.unbounded_opaque.iter().copied().chain(cands.all()) {

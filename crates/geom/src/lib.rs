@@ -34,4 +34,4 @@ pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, Tran
 pub use packet::Tile;
 pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
-pub use trace::{Crossing, Frustum, Hit, Partition, Scratch, Seen, Step};
+pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, Scratch, Seen, Step};

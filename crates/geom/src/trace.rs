@@ -119,6 +119,11 @@ pub struct Crossing {
     pub face: u32,
 }
 
+/// The order of [`Prepared::by_distance`]: by entry bound, then by zone.
+pub fn by_entry(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
 impl Prepared {
     /// Segments of body `b` along the ray, cached for the current ray.
     /// `boxed`: the caller knows the ray meets the body's bounds.
@@ -439,7 +444,7 @@ impl Prepared {
                 .iter()
                 .map(|&zi| (self.entry_bound(zi, eye, parallel), zi)),
         );
-        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.sort_unstable_by(by_entry);
     }
 
     /// The lower bound of where the rays of [`Prepared::by_distance`] can

@@ -22,8 +22,8 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use sv_geom::{
-    Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared, Scratch, Seen,
-    Tile, Warning,
+    by_entry, Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared,
+    Scratch, Seen, Tile, Warning,
 };
 
 /// Above this many zones in the box of a tile's hit points and a point
@@ -111,9 +111,9 @@ struct Bins {
     bands: Vec<Vec<Binned>>,
 }
 
-/// The order of [`Prepared::by_distance`]: by entry bound, then by zone.
-fn by_entry(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
-    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+/// The tile (or band) of raster coordinate `v`, the last one being `last`.
+fn tile_of(v: f64, last: usize) -> usize {
+    ((v / TILE as f64).floor().max(0.0) as usize).min(last)
 }
 
 /// A zone in a band: its entry bound and number, and the columns of the
@@ -151,8 +151,8 @@ struct Occluders<'a> {
     last: Vec<Option<u32>>,
     sets: Vec<Option<Vec<u32>>>,
     /// Per parallel light with a buffer, whether the shadow ray of each of
-    /// the tile's hits is blocked, tested for the whole tile beforehand
-    /// (empty when the light's rays are to be tested one by one).
+    /// the tile's hits is blocked, tested for the whole tile beforehand in
+    /// packets ([`Renderer::shadows_toward_suns`]; empty for other lights).
     blocked: Vec<Vec<bool>>,
 }
 
@@ -361,7 +361,7 @@ impl Renderer {
             .collect();
         let mut bands = vec![Vec::new(); h.div_ceil(TILE)];
         let last = bands.len() - 1;
-        let band = |y: f64| ((y / TILE as f64).floor().max(0.0) as usize).min(last);
+        let band = |y: f64| tile_of(y, last);
         for (&zi, (seen, near)) in p.bounded_opaque_zones().iter().zip(seen) {
             let r = match seen {
                 Seen::Nowhere => continue,
@@ -397,9 +397,10 @@ impl Renderer {
     }
 
     /// The zones of the tiles of the band of raster rows `y0..y1`, from its
-    /// bin of [`Renderer::zone_bins`] (after the unbounded zones, `lead`,
-    /// which every list holds): each zone in the tiles its columns reach,
-    /// with its entry bound, in the bin's order. A zone that may be seen
+    /// bin of [`Renderer::zone_bins`] and the unbounded zones, `lead`, which
+    /// every list holds: each zone in the tiles its columns reach, with its
+    /// entry bound, in the order of [`Prepared::by_distance`] (the bin's and
+    /// `lead`'s, merged). A zone that may be seen
     /// anywhere (it reaches behind the eye) goes only in the tiles whose
     /// frustum it may meet ([`Prepared::frustum_keeps`]). A tile with more
     /// than [`MAX_TILE_ZONES`] is marked (its list is then incomplete).
@@ -417,12 +418,22 @@ impl Renderer {
         l.over.clear();
         l.over.resize(n, false);
         l.frusta.clear();
-        for t in l.tiles.iter_mut() {
-            t.clear();
-            t.extend_from_slice(lead);
-        }
-        let tile = |x: f64| ((x / TILE as f64).floor().max(0.0) as usize).min(n - 1);
+        l.tiles.iter_mut().for_each(Vec::clear);
+        let tile = |x: f64| tile_of(x, n - 1);
+        // Into every tile not yet full.
+        let everywhere = |l: &mut BandLists, e: (f64, u32)| {
+            for (t, over) in l.tiles.iter_mut().zip(&mut l.over) {
+                if !*over {
+                    t.push(e);
+                    *over = t.len() > MAX_TILE_ZONES;
+                }
+            }
+        };
+        let mut lead = lead.iter().copied().peekable();
         for &Binned { near, zi, x0, x1 } in bin {
+            while let Some(e) = lead.next_if(|e| by_entry(e, &(near, zi)).is_lt()) {
+                everywhere(l, e);
+            }
             let anywhere = x0 == f64::NEG_INFINITY;
             if anywhere && l.frusta.is_empty() {
                 let ray = |x: usize, y: usize| gen.ray(x as f64, y as f64);
@@ -439,6 +450,7 @@ impl Renderer {
                 l.over[t] = l.tiles[t].len() > MAX_TILE_ZONES;
             }
         }
+        lead.for_each(|e| everywhere(l, e));
     }
 
     /// Test the shadow rays of the tile's `hits` (with their `rays`) toward
@@ -526,24 +538,29 @@ impl Renderer {
                 continue;
             }
             if shadows {
-                let skip = self.prepared.shadow_skip(hit);
+                // A parallel light's buffer has answered for the tile's hits
+                // (`shadows_toward_suns`); the rest are tested here.
                 let blocked = if let Some(&b) = occ.blocked.get(li).and_then(|b| b.get(h)) {
                     b
-                } else if let Some(Buffer::Parallel(lb)) = buffer {
-                    let shadow = lb.shadow_ray(p);
-                    self.prepared
-                        .occluded_by(lb, &shadow, eps, dist, skip, &mut occ.last[li], s)
-                } else if let Some(zones) = occ.sets.get(li).and_then(Option::as_ref) {
-                    let shadow = Ray::new(p, to_light);
-                    self.prepared
-                        .occluded_in(zones, skip, &shadow, eps, dist, s)
-                } else if let Some(Buffer::Point(pb)) = buffer {
-                    let shadow = Ray::new(p, to_light);
-                    self.prepared
-                        .occluded_by(pb, &shadow, eps, dist, skip, &mut occ.last[li], s)
                 } else {
+                    let skip = self.prepared.shadow_skip(hit);
                     let shadow = Ray::new(p, to_light);
-                    self.prepared.occluded(&shadow, eps, dist, skip, s)
+                    if let Some(zones) = occ.sets.get(li).and_then(Option::as_ref) {
+                        self.prepared
+                            .occluded_in(zones, skip, &shadow, eps, dist, s)
+                    } else if let Some(Buffer::Point(pb)) = buffer {
+                        self.prepared.occluded_by(
+                            pb,
+                            &shadow,
+                            eps,
+                            dist,
+                            skip,
+                            &mut occ.last[li],
+                            s,
+                        )
+                    } else {
+                        self.prepared.occluded(&shadow, eps, dist, skip, s)
+                    }
                 };
                 if blocked {
                     continue;
@@ -657,14 +674,10 @@ impl Renderer {
                 for (tile, x0) in (0..w).step_by(TILE).enumerate() {
                     let x1 = (x0 + TILE).min(w);
                     let few = !ws.lists.over[tile];
-                    // In the order `Prepared::by_distance` gives: the band's,
-                    // after the unbounded zones, which may come anywhere in
-                    // it. A crowded tile's list is cut short and never read.
+                    // In the order `Prepared::by_distance` gives. A crowded
+                    // tile's list is cut short and never read.
                     if few {
                         std::mem::swap(&mut ws.sorted, &mut ws.lists.tiles[tile]);
-                        if !bins.lead.is_empty() {
-                            ws.sorted.sort_unstable_by(by_entry);
-                        }
                     }
                     // Primary rays of the whole tile first (none when no
                     // zone meets the tile: it is all background).
@@ -706,10 +719,9 @@ impl Renderer {
                         }
                         ws.rays.clear();
                         gen.rays(&ws.pts, &mut ws.rays);
-                        // Each hit is written straight into its slot (see
-                        // `first_hit_in`); the slot is kept when it holds
-                        // one. The slots are only ever added to: filling
-                        // them anew for every tile stalls as a copy does.
+                        // The hits' slots are only ever added to (see
+                        // `first_hits_in`): filling them anew for every tile
+                        // stalls as a copy does.
                         found = match zones {
                             Some(zones) => self.prepared.first_hits_in(
                                 zones,
@@ -741,10 +753,8 @@ impl Renderer {
                                 .map(|((_, h), ray)| self.prepared.normal(h, ray)),
                         );
                     }
-                    // Then, per point light, the zones the tile's shadow
-                    // rays may meet: those in the box of the tile's hit
-                    // points and the light. (Parallel lights have their
-                    // light buffers.)
+                    // Then the shadow rays toward parallel lights, in
+                    // packets through their light buffers.
                     let hits = &ws.hits[..found];
                     if st.shadows && !hits.is_empty() {
                         self.shadows_toward_suns(
@@ -758,6 +768,9 @@ impl Renderer {
                             &mut ws.s,
                         );
                     }
+                    // And per point light, the zones the tile's shadow rays
+                    // may meet: those in the box of the tile's hit points
+                    // and the light.
                     if st.shadows && !hits.is_empty() && point_lights {
                         let from = Aabb::from_points(
                             hits.iter()
@@ -987,6 +1000,7 @@ mod tests {
             let gen = cam.rays(w as u32, h as u32);
             let parallel = matches!(cam.lens, Lens::Ortho { .. }).then(|| cam.dir.normalize());
             let bins = r.zone_bins(&gen, (cam.eye, parallel), w, h);
+            assert!(!bins.lead.is_empty(), "the ground is in every list");
             for (band, y0) in (0..h).step_by(TILE).enumerate() {
                 let y1 = (y0 + TILE).min(h);
                 r.band_lists(&bins.lead, &bins.bands[band], &gen, w, (y0, y1), &mut lists);
@@ -1003,13 +1017,12 @@ mod tests {
                     }
                     let list = &lists.tiles[t];
                     // Each with its entry bound for the camera, the unbounded
-                    // zones first and the rest in the order of
-                    // `by_distance`.
+                    // zones among them, in the order of `by_distance`.
                     for &(near, z) in list {
                         assert_eq!(near, r.prepared.entry_bound(z, cam.eye, parallel));
                     }
-                    assert_eq!(list[..bins.lead.len()], bins.lead[..]);
-                    assert!(list[bins.lead.len()..].is_sorted_by(|a, b| by_entry(a, b).is_le()));
+                    assert!(bins.lead.iter().all(|e| list.contains(e)));
+                    assert!(list.is_sorted_by(|a, b| by_entry(a, b).is_lt()));
                     let list: Vec<u32> = list.iter().map(|&(_, z)| z).collect();
                     for &z in &own {
                         if r.prepared.zone_rect(z, &gen) == Seen::Nowhere {

@@ -597,6 +597,9 @@ impl Renderer {
         {
             *frame = Frame::new(st.width, st.height, st.aovs);
         }
+        if w == 0 || h == 0 {
+            return;
+        }
         let gen = self.camera.rays(st.width, st.height);
         let n = st.samples.max(1);
         // Where a pixel's n × n samples lie in it, from its corner.
@@ -956,6 +959,20 @@ mod tests {
         s.geometry.regions.push(Region::of_body("ground", n + 1));
         s.regions = vec![RegionProps::default(); n + 2];
         s
+    }
+
+    #[test]
+    fn a_picture_without_pixels_is_empty() {
+        let (r, _) = Renderer::new(&crowd(), 4.0 / 3.0).unwrap();
+        for (width, height) in [(0, 0), (0, 48), (64, 0)] {
+            let st = Settings {
+                width,
+                height,
+                ..Settings::default()
+            };
+            let frame = r.render(&st, &|_| {});
+            assert!(frame.rgb.is_empty() && frame.alpha.is_empty());
+        }
     }
 
     #[test]

@@ -37,21 +37,44 @@ use sv_math::{Aabb, DMat3, DVec3, Ray};
 /// The entry points of a packet method, one per instruction set:
 /// `$avx512` and `$avx2` call `Prepared::$method` with the token, compiled
 /// with that instruction set enabled, so that everything inlined into them
-/// uses it.
+/// uses it; `$any` calls the widest this processor has when the packets are
+/// on, and answers `None` when there is none (the caller's scalar code then
+/// does the work).
 macro_rules! compiled_for_each {
-    (fn $avx512:ident, $avx2:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?) => {
+    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?)) => {
+        compiled_for_each! { fn $avx512, $avx2, $any => $method($($arg: $ty),*) -> () }
+    };
+    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+        #[doc = concat!("[`Prepared::", stringify!($method), "`] with the widest instruction set here, if any.")]
+        #[allow(clippy::too_many_arguments, clippy::unused_unit)]
+        #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
+        pub(super) fn $any(p: &Prepared, $($arg: $ty),*) -> Option<$ret> {
+            #[cfg(target_arch = "x86_64")]
+            if p.packets {
+                if let Some(t) = crate::simd::Avx512::detect() {
+                    // SAFETY: the token proves the processor has AVX-512F.
+                    return Some(unsafe { $avx512(p, t, $($arg),*) });
+                }
+                if let Some(t) = crate::simd::Avx2::detect() {
+                    // SAFETY: the token proves the processor has AVX2.
+                    return Some(unsafe { $avx2(p, t, $($arg),*) });
+                }
+            }
+            None
+        }
+
         #[doc = concat!("[`Prepared::", stringify!($method), "`] compiled for AVX-512.")]
         ///
         /// # Safety
         /// The processor must have AVX-512F (the token's existence proves it).
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx512f")]
-        #[allow(clippy::too_many_arguments)]
+        #[allow(clippy::too_many_arguments, clippy::unused_unit)]
         pub(super) unsafe fn $avx512(
             p: &Prepared,
             t: crate::simd::Avx512,
             $($arg: $ty),*
-        ) $(-> $ret)? {
+        ) -> $ret {
             p.$method(t, $($arg),*)
         }
 
@@ -61,12 +84,12 @@ macro_rules! compiled_for_each {
         /// The processor must have AVX2 (the token's existence proves it).
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = "avx2")]
-        #[allow(clippy::too_many_arguments)]
+        #[allow(clippy::too_many_arguments, clippy::unused_unit)]
         pub(super) unsafe fn $avx2(
             p: &Prepared,
             t: crate::simd::Avx2,
             $($arg: $ty),*
-        ) $(-> $ret)? {
+        ) -> $ret {
             p.$method(t, $($arg),*)
         }
     };

@@ -51,17 +51,8 @@ impl Prepared {
         out: &mut Vec<(u32, Hit)>,
     ) -> usize {
         grow(out, rays.len(), (0, Hit::NONE));
-        #[cfg(target_arch = "x86_64")]
-        if self.packets {
-            use crate::simd::{Avx2, Avx512};
-            if let Some(t) = Avx512::detect() {
-                // SAFETY: the token proves the processor has AVX-512F.
-                return unsafe { rays_avx512(self, t, Some(zones), rays, tmin, tmax, s, out) };
-            }
-            if let Some(t) = Avx2::detect() {
-                // SAFETY: the token proves the processor has AVX2.
-                return unsafe { rays_avx2(self, t, Some(zones), rays, tmin, tmax, s, out) };
-            }
+        if let Some(n) = rays_any(self, Some(zones), rays, tmin, tmax, s, out) {
+            return n;
         }
         self.hits_one_by_one(zones, rays, tmin, tmax, s, out)
     }
@@ -100,17 +91,8 @@ impl Prepared {
         out: &mut Vec<(u32, Hit)>,
     ) -> usize {
         grow(out, rays.len(), (0, Hit::NONE));
-        #[cfg(target_arch = "x86_64")]
-        if self.packets {
-            use crate::simd::{Avx2, Avx512};
-            if let Some(t) = Avx512::detect() {
-                // SAFETY: the token proves the processor has AVX-512F.
-                return unsafe { rays_avx512(self, t, None, rays, tmin, tmax, s, out) };
-            }
-            if let Some(t) = Avx2::detect() {
-                // SAFETY: the token proves the processor has AVX2.
-                return unsafe { rays_avx2(self, t, None, rays, tmin, tmax, s, out) };
-            }
+        if let Some(n) = rays_any(self, None, rays, tmin, tmax, s, out) {
+            return n;
         }
         self.walk_one_by_one(rays, tmin, tmax, s, out)
     }
@@ -168,25 +150,8 @@ impl Prepared {
         grow(hits, tile.len(), (0, Hit::NONE));
         grow(rays, tile.len(), gen.along);
         grow(normals, tile.len(), DVec3::ZERO);
-        #[cfg(target_arch = "x86_64")]
-        if self.packets {
-            use crate::simd::{Avx2, Avx512};
-            if let Some(t) = Avx512::detect() {
-                // SAFETY: the token proves the processor has AVX-512F.
-                return unsafe {
-                    tile_avx512(
-                        self, t, gen, tile, zones, tmin, tmax, s, hits, rays, normals,
-                    )
-                };
-            }
-            if let Some(t) = Avx2::detect() {
-                // SAFETY: the token proves the processor has AVX2.
-                return unsafe {
-                    tile_avx2(
-                        self, t, gen, tile, zones, tmin, tmax, s, hits, rays, normals,
-                    )
-                };
-            }
+        if let Some(n) = tile_any(self, gen, tile, zones, tmin, tmax, s, hits, rays, normals) {
+            return n;
         }
         self.tile_one_by_one(gen, tile, zones, tmin, tmax, s, hits, rays, normals)
     }
@@ -586,7 +551,7 @@ fn child_lanes<S: Simd>(
 }
 
 compiled_for_each! {
-    fn rays_avx512, rays_avx2 => rays_in_packets(
+    fn rays_avx512, rays_avx2, rays_any => rays_in_packets(
         zones: Option<&[(f64, u32)]>,
         rays: &[Ray],
         tmin: f64,
@@ -597,7 +562,7 @@ compiled_for_each! {
 }
 
 compiled_for_each! {
-    fn tile_avx512, tile_avx2 => tile_in_packets(
+    fn tile_avx512, tile_avx2, tile_any => tile_in_packets(
         gen: &RayGen,
         tile: Tile,
         zones: Option<&[(f64, u32)]>,

@@ -34,17 +34,8 @@ impl Prepared {
     ) {
         out.clear();
         out.resize(from.len(), false);
-        #[cfg(target_arch = "x86_64")]
-        if self.packets {
-            use crate::simd::{Avx2, Avx512};
-            if let Some(t) = Avx512::detect() {
-                // SAFETY: the token proves the processor has AVX-512F.
-                return unsafe { occluded_avx512(self, t, buf, from, tmin, last, s, out) };
-            }
-            if let Some(t) = Avx2::detect() {
-                // SAFETY: the token proves the processor has AVX2.
-                return unsafe { occluded_avx2(self, t, buf, from, tmin, last, s, out) };
-            }
+        if occluded_any(self, buf, from, tmin, last, s, out).is_some() {
+            return;
         }
         for (o, &(p, skip)) in out.iter_mut().zip(from) {
             let ray = buf.shadow_ray(p);
@@ -252,7 +243,7 @@ fn places<S: Simd>(s: S, g: &Grid, r: &Lanes<S>) -> (S::F, S::F) {
 }
 
 compiled_for_each! {
-    fn occluded_avx512, occluded_avx2 => occluded_in_packets(
+    fn occluded_avx512, occluded_avx2, occluded_any => occluded_in_packets(
         buf: &LightBuffer,
         from: &[(DVec3, Option<u32>)],
         tmin: f64,

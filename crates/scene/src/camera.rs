@@ -107,19 +107,26 @@ mod tests {
     use super::*;
     use sv_math::Ray;
 
-    #[test]
-    fn rays_made_together_equal_rays_made_one_by_one() {
-        for lens in [
+    /// A perspective and an orthographic view of the same scene, 640×480.
+    fn views() -> [(Lens, RayGen); 2] {
+        [
             Lens::Fov { vertical_deg: 37.0 },
             Lens::Ortho { height: 3.0 },
-        ] {
+        ]
+        .map(|lens| {
             let cam = Camera::looking_at(
                 DVec3::new(-3.0, 7.0, 2.5),
                 DVec3::new(0.3, -0.2, 0.1),
                 DVec3::Z,
                 lens,
             );
-            let g = cam.rays(640, 480);
+            (lens, cam.rays(640, 480))
+        })
+    }
+
+    #[test]
+    fn rays_made_together_equal_rays_made_one_by_one() {
+        for (_, g) in views() {
             let pts: Vec<[f64; 2]> = (0..37)
                 .map(|i| [i as f64 * 17.3 + 0.5, 479.5 - i as f64 * 11.1])
                 .collect();
@@ -132,17 +139,7 @@ mod tests {
 
     #[test]
     fn a_point_on_the_ray_through_a_pixel_is_seen_there() {
-        for lens in [
-            Lens::Fov { vertical_deg: 37.0 },
-            Lens::Ortho { height: 3.0 },
-        ] {
-            let cam = Camera::looking_at(
-                DVec3::new(-3.0, 7.0, 2.5),
-                DVec3::new(0.3, -0.2, 0.1),
-                DVec3::Z,
-                lens,
-            );
-            let g = cam.rays(640, 480);
+        for (lens, g) in views() {
             for i in 0..50 {
                 let (x, y) = (i as f64 * 13.7 - 20.0, 479.0 - i as f64 * 9.3);
                 let r = g.ray(x, y);

@@ -337,21 +337,17 @@ impl Renderer {
     /// ([`Prepared::zone_rect`]) reaches it, with the columns it spans,
     /// padded for rounding. Zones seen nowhere on the raster are left out;
     /// zones that may be seen anywhere are in every band. Each comes with
-    /// its entry bound for rays from `eye` (along `parallel`, orthographic),
+    /// its entry bound for the rays of `gen`,
     /// found here once rather than in every tile that lists it, where
     /// reading the zone's bounds again missed the cache; each band is in
     /// the order of [`Prepared::by_distance`]. Made once a frame, in
     /// parallel: a walk of the hierarchy per tile took a fifth of the time
     /// of a frame of 10,000 spheres, and a walk per band with each zone's
     /// tiles' frusta tested a third of that of 100,000.
-    fn zone_bins(
-        &self,
-        gen: &RayGen,
-        (eye, parallel): (DVec3, Option<DVec3>),
-        w: usize,
-        h: usize,
-    ) -> Bins {
+    fn zone_bins(&self, gen: &RayGen, w: usize, h: usize) -> Bins {
         let p = &self.prepared;
+        // The eye, and the direction of orthographic rays.
+        let (eye, parallel) = (gen.eye, gen.ortho.then_some(gen.forward));
         let (wf, hf) = (w as f64, h as f64);
         let seen: Vec<(Seen, f64)> = p
             .bounded_opaque_zones()
@@ -606,14 +602,12 @@ impl Renderer {
         let offsets: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) / n as f64).collect();
         let inv = 1.0 / (n * n) as f64;
         let done = AtomicUsize::new(0);
-        let ortho = matches!(self.camera.lens, sv_scene::Lens::Ortho { .. });
         let point_lights = self
             .lights
             .iter()
             .any(|l| matches!(l.kind, LightKind::Point { .. }));
-        let parallel = ortho.then(|| self.camera.dir.normalize());
         // Where each zone may be seen, binned by band of tiles.
-        let bins = self.zone_bins(&gen, (self.camera.eye, parallel), w, h);
+        let bins = self.zone_bins(&gen, w, h);
         let buffers = if st.shadows {
             self.light_buffers()
         } else {
@@ -1016,7 +1010,7 @@ mod tests {
         for cam in cameras {
             let gen = cam.rays(w as u32, h as u32);
             let parallel = matches!(cam.lens, Lens::Ortho { .. }).then(|| cam.dir.normalize());
-            let bins = r.zone_bins(&gen, (cam.eye, parallel), w, h);
+            let bins = r.zone_bins(&gen, w, h);
             assert!(!bins.lead.is_empty(), "the ground is in every list");
             for (band, y0) in (0..h).step_by(TILE).enumerate() {
                 let y1 = (y0 + TILE).min(h);

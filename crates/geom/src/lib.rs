@@ -25,6 +25,7 @@ mod model;
 mod packet;
 mod prepare;
 pub mod shape;
+mod sight;
 mod simd;
 pub mod table;
 mod trace;

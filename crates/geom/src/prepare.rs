@@ -7,6 +7,7 @@ use crate::shape::polyhedron_hull as hull;
 use crate::shape::{
     Cone, Ellipsoid, GeneralCone, Mesh, Plane, Polyhedron, Quadric, Shape, Sphere, Torus,
 };
+use crate::sight::Sight;
 use crate::table::BodyKind;
 use std::fmt;
 use sv_math::{orthonormal_basis, Aabb, DMat3, DVec3};
@@ -84,6 +85,7 @@ pub(crate) enum Tight {
 }
 
 /// A zone's [`Tight`], resolved by [`Prepared::tighter`].
+#[derive(Clone, Copy)]
 pub(crate) enum Tighter<'a> {
     /// Nothing better than the box.
     Box,
@@ -107,6 +109,9 @@ pub struct Prepared {
     pub(crate) bvh_opaque: Bvh,
     pub(crate) unbounded_all: Vec<u32>,
     pub(crate) unbounded_opaque: Vec<u32>,
+    /// The bounded zones of opaque regions, in the order of the zones, as
+    /// a raster sees them.
+    pub(crate) sights: Vec<Sight>,
     pub(crate) tol: f64,
     /// Per zone, something tighter than its box that holds it.
     pub(crate) tight: Vec<Tight>,
@@ -274,7 +279,7 @@ impl Prepared {
             }
         }
         let mut hull_pts = Vec::new();
-        let tight = zones
+        let tight: Vec<Tight> = zones
             .iter()
             .map(|z| {
                 let plus = &terms[z.first as usize..z.first as usize + z.plus as usize];
@@ -290,6 +295,10 @@ impl Prepared {
                     .unwrap_or(Tight::Box)
             })
             .collect();
+        let sights = bounded_opaque
+            .iter()
+            .map(|&(zi, b)| Sight::new(zi, &b, &tight[zi as usize]))
+            .collect();
         let p = Prepared {
             shapes,
             body_bounds,
@@ -300,6 +309,7 @@ impl Prepared {
             opaque,
             unbounded_all,
             unbounded_opaque,
+            sights,
             tol,
             tight,
             hull_pts,

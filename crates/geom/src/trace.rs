@@ -5,6 +5,7 @@ use crate::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound,
 use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared, Tighter};
 use crate::shape::Seg;
+use crate::sight::{entry_of, rect_of};
 use sv_math::{Aabb, DVec3, Ray, RayGen};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
@@ -451,30 +452,12 @@ impl Prepared {
     /// enter zone `zi`'s bounds.
     #[inline]
     pub fn entry_bound(&self, zi: u32, eye: DVec3, parallel: Option<DVec3>) -> f64 {
-        let base = parallel.map_or(0.0, |d| eye.dot(d));
-        let b = &self.zones[zi as usize].bounds;
-        let mut near = match parallel {
-            None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
-            Some(d) => {
-                // The box corner furthest against `d`.
-                let p = DVec3::new(
-                    if d.x > 0.0 { b.min.x } else { b.max.x },
-                    if d.y > 0.0 { b.min.y } else { b.max.y },
-                    if d.z > 0.0 { b.min.z } else { b.max.z },
-                );
-                p.dot(d) - base
-            }
-        };
-        // A ball inside the box may lie farther off than the box.
-        if let Tighter::Ball(c, r) = self.tighter(zi) {
-            let ball = match parallel {
-                None => (c - eye).length() - r,
-                Some(d) => c.dot(d) - r - base,
-            };
-            near = near.max(ball);
-        }
-        // Rounding slack keeps the bound a bound.
-        near - 1e-9 * (near.abs() + base.abs())
+        entry_of(
+            &self.zones[zi as usize].bounds,
+            self.tighter(zi),
+            eye,
+            parallel,
+        )
     }
 
     /// Test one zone for the first hit, keeping the best so far: the lowest
@@ -563,39 +546,7 @@ impl Prepared {
     /// lies wholly outside a plane through the eye and a tile's edge
     /// exactly when its rectangle lies beyond that edge.
     pub fn zone_rect(&self, zi: u32, gen: &RayGen) -> Seen {
-        let b = &self.zones[zi as usize].bounds;
-        let corner = |i: usize| {
-            DVec3::new(
-                if i & 1 == 0 { b.min.x } else { b.max.x },
-                if i & 2 == 0 { b.min.y } else { b.max.y },
-                if i & 4 == 0 { b.min.z } else { b.max.z },
-            )
-        };
-        // Rays meet only points ahead of where they start.
-        if (0..8).all(|i| (corner(i) - gen.eye).dot(gen.forward) < 0.0) {
-            return Seen::Nowhere;
-        }
-        let boxed = || gen.raster_rect((0..8).map(corner));
-        let rect = match self.tighter(zi) {
-            // The ball lies in the box.
-            Tighter::Ball(c, r) => gen.ball_rect(c, r).or_else(boxed),
-            Tighter::Points(pts) => match (boxed(), gen.raster_rect(pts.iter().copied())) {
-                (Some(a), Some(h)) => Some([
-                    a[0].max(h[0]),
-                    a[1].max(h[1]),
-                    a[2].min(h[2]),
-                    a[3].min(h[3]),
-                ]),
-                (a, h) => a.or(h),
-            },
-            Tighter::Box => boxed(),
-        };
-        rect.map_or(Seen::Anywhere, Seen::Within)
-    }
-
-    /// The bounded zones of opaque regions.
-    pub fn bounded_opaque_zones(&self) -> &[u32] {
-        &self.bvh_opaque.items
+        rect_of(&self.zones[zi as usize].bounds, self.tighter(zi), gen)
     }
 
     /// The zones of opaque regions that have no finite bounds (they lead

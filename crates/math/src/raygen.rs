@@ -27,6 +27,11 @@ pub struct RayGen {
     pub inv_w: f64,
     /// See `inv_w`.
     pub inv_h: f64,
+    /// For [`RayGen::ball_rect`], which places every ball of a model on
+    /// the raster in every frame: one over the lengths of `right` and
+    /// `up`, and half the raster's width and height in pixels.
+    inv_len: [f64; 2],
+    half: [f64; 2],
 }
 
 impl RayGen {
@@ -51,6 +56,8 @@ impl RayGen {
             ortho,
             inv_w: 1.0 / width as f64,
             inv_h: 1.0 / height as f64,
+            inv_len: [1.0 / right.length(), 1.0 / up.length()],
+            half: [0.5 * width as f64, 0.5 * height as f64],
         }
     }
 
@@ -119,9 +126,11 @@ impl RayGen {
     /// outline's tangents through the eye), or `None` when the ball reaches
     /// to or behind the plane of a perspective camera's eye.
     pub fn ball_rect(&self, c: DVec3, r: f64) -> Option<[f64; 4]> {
+        // Multiplications where `raster` divides: a few units of rounding
+        // in the last place, for a fifth of the divisions.
         let q = c - self.eye;
-        let (rl, ul) = (self.right.length(), self.up.length());
-        let (x, y) = (q.dot(self.right) / rl, q.dot(self.up) / ul);
+        let [ir, iu] = self.inv_len;
+        let (x, y) = (q.dot(self.right) * ir, q.dot(self.up) * iu);
         let ((x0, x1), (y0, y1)) = if self.ortho {
             ((x - r, x + r), (y - r, y + r))
         } else {
@@ -142,9 +151,13 @@ impl RayGen {
         };
         // To the image plane's units: the right and up vectors' lengths are
         // half the raster's width and height there.
-        let (a, b) = self.raster_of(x0 / rl, y1 / ul);
-        let (c, d) = self.raster_of(x1 / rl, y0 / ul);
-        Some([a, b, c, d])
+        let [hw, hh] = self.half;
+        Some([
+            (x0 * ir + 1.0) * hw,
+            (1.0 - y1 * iu) * hh,
+            (x1 * ir + 1.0) * hw,
+            (1.0 - y0 * iu) * hh,
+        ])
     }
 
     /// The rays through many raster positions, appended to `out`: exactly

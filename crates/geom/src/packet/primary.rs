@@ -57,6 +57,29 @@ impl Prepared {
         self.hits_one_by_one(zones, rays, tmin, tmax, s, out)
     }
 
+    /// Ask the processor to bring the records of a tile list's zones
+    /// into its caches, and return at once: a hint, with no effect on any
+    /// answer. Of 100,000 small zones, each is met by a few tiles a frame,
+    /// and its first reading there waited for memory. Issued a tile or two
+    /// before the list is walked, the fetches of its zones overlap one
+    /// another and the work in between. Then
+    /// [`Prepared::prefetch_bodies`], once they have arrived.
+    pub fn prefetch_zones(&self, zones: &[(f64, u32)]) {
+        for &(_, zi) in zones {
+            prefetch(&self.zones[zi as usize]);
+        }
+    }
+
+    /// As [`Prepared::prefetch_zones`], for the first `+` body of each
+    /// zone: it reads the zones' records, so these should be fetched
+    /// already.
+    pub fn prefetch_bodies(&self, zones: &[(f64, u32)]) {
+        for &(_, zi) in zones {
+            let b = self.terms[self.zones[zi as usize].first as usize];
+            prefetch(&self.shapes[b as usize]);
+        }
+    }
+
     /// [`Prepared::first_hits_in`] ray by ray.
     pub(crate) fn hits_one_by_one(
         &self,
@@ -455,6 +478,21 @@ impl Prepared {
         }
         Some(b)
     }
+}
+
+/// Ask for the cache line of `v`'s start (nothing where there is no
+/// instruction for it).
+#[inline(always)]
+fn prefetch<T>(v: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing and never faults; `v` is a
+    // reference anyway. SSE is part of x86-64.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>((v as *const T).cast());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = v;
 }
 
 /// `v` grown to `n` places, never shrunk.

@@ -36,3 +36,15 @@ pub use packet::Tile;
 pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
 pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, Scratch, Seen, Step};
+
+/// Numbers spread evenly over `[0, 1)` for the tests, from a 64-bit linear
+/// congruential generator started at `seed`: the same every run.
+#[cfg(test)]
+pub(crate) fn test_numbers(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

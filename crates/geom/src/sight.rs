@@ -190,13 +190,7 @@ mod tests {
         // turned boxes (hull points), and spheres cut by boxes (a ball and a
         // smaller box).
         let mut g = Geometry::default();
-        let mut seed = 11u64;
-        let mut rnd = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_numbers(11);
         let far = DVec3::new(12345.678, -9876.543, 4321.0);
         for i in 0..80 {
             let c = far + DVec3::new(rnd(), rnd(), rnd()) * 6.0;

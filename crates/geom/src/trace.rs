@@ -1058,13 +1058,7 @@ mod tests {
     fn entry_bounds_are_never_past_where_a_ray_enters() {
         // Overlapping spheres, one zone each, and boxes turned to the axes.
         let mut g = Geometry::default();
-        let mut seed = 7u64;
-        let mut rnd = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::test_numbers(7);
         for i in 0..60 {
             let (x, y, z) = (rnd() * 6.0, rnd() * 6.0, rnd() * 6.0);
             let (kind, params) = if i % 3 == 0 {

@@ -127,7 +127,7 @@ impl RayGen {
     /// to or behind the plane of a perspective camera's eye.
     pub fn ball_rect(&self, c: DVec3, r: f64) -> Option<[f64; 4]> {
         // Multiplications where `raster` divides: a few units of rounding
-        // in the last place, for a fifth of the divisions.
+        // in the last place, for 4 divisions instead of 14.
         let q = c - self.eye;
         let [ir, iu] = self.inv_len;
         let (x, y) = (q.dot(self.right) * ir, q.dot(self.up) * iu);

@@ -71,12 +71,14 @@ impl Prepared {
     }
 
     /// As [`Prepared::prefetch_zones`], for the first `+` body of each
-    /// zone: it reads the zones' records, so these should be fetched
-    /// already.
+    /// zone that has one: it reads the zones' records, so these should be
+    /// fetched already.
     pub fn prefetch_bodies(&self, zones: &[(f64, u32)]) {
         for &(_, zi) in zones {
-            let b = self.terms[self.zones[zi as usize].first as usize];
-            prefetch(&self.shapes[b as usize]);
+            let z = &self.zones[zi as usize];
+            if z.plus > 0 {
+                prefetch(&self.shapes[self.terms[z.first as usize] as usize]);
+            }
         }
     }
 

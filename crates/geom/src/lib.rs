@@ -48,3 +48,11 @@ pub(crate) fn test_numbers(mut seed: u64) -> impl FnMut() -> f64 {
         (seed >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// The parameters of a BOX body for the tests: corner `(x, y, z)`, turned
+/// about the vertical by `(a, b)`, 0.4 high.
+#[cfg(test)]
+pub(crate) fn turned_box([x, y, z]: [f64; 3], a: f64, b: f64) -> Vec<f64> {
+    let v = [x, y, z, 2.0 * a, 2.0 * b, 0.0, -0.3 * b, 0.3 * a, 0.0];
+    [&v[..], &[0.0, 0.0, 0.4]].concat()
+}

@@ -203,21 +203,7 @@ mod tests {
                 ),
                 _ => {
                     let (a, b) = (rnd() - 0.5, rnd() - 0.5);
-                    let v = [
-                        c.x,
-                        c.y,
-                        c.z,
-                        a,
-                        b,
-                        0.0,
-                        -0.3 * b,
-                        0.3 * a,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.4,
-                    ];
-                    (BodyKind::Box, v.to_vec())
+                    (BodyKind::Box, crate::turned_box(c.to_array(), a, b))
                 }
             };
             g.bodies.push(Body::new(format!("b{i}"), kind, params));

@@ -1063,23 +1063,7 @@ mod tests {
             let (x, y, z) = (rnd() * 6.0, rnd() * 6.0, rnd() * 6.0);
             let (kind, params) = if i % 3 == 0 {
                 let (a, b) = (rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0);
-                (
-                    BodyKind::Box,
-                    vec![
-                        x,
-                        y,
-                        z,
-                        2.0 * a,
-                        2.0 * b,
-                        0.0,
-                        -0.3 * b,
-                        0.3 * a,
-                        0.0,
-                        0.0,
-                        0.0,
-                        0.4,
-                    ],
-                )
+                (BodyKind::Box, crate::turned_box([x, y, z], a, b))
             } else {
                 (BodyKind::Sph, vec![x, y, z, 0.3 + rnd()])
             };

@@ -26,6 +26,7 @@ mod model;
 pub mod shape;
 pub mod table;
 
-pub use body::{arb_points, ars_triangles, prepare, Warning};
+pub use body::{prepare, Prepare, Warning};
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
+pub use shape::{arb_points, ars_triangles};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};

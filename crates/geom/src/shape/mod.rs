@@ -6,20 +6,29 @@
 //! that results can be cached per ray and reused by every region that
 //! mentions the body. Convex bodies give at most one segment; the torus, the
 //! general TGC, quadrics and faceted ARS solids may give several.
+//!
+//! One file per body family holds everything about it: the checks of a
+//! body's values and its preparation (`prepare_…`, named in the body
+//! table, [`crate::table`]), the prepared form, where a ray enters and
+//! leaves it, its normal and bounds, and its lane form for the packet
+//! tracer. A new body type of an existing family is one function there and
+//! one table entry; a new family is one file and a [`Shape`] variant.
 
-mod cone;
-mod mesh;
+pub(crate) mod cone;
+pub(crate) mod ellipsoid;
+pub(crate) mod mesh;
 mod poly;
 pub(crate) mod polyhedron;
-mod quadric;
-mod rpp;
-mod sphere;
-mod torus;
+pub(crate) mod quadric;
+pub(crate) mod rpp;
+pub(crate) mod sphere;
+pub(crate) mod torus;
 
 pub use cone::{Cone, GeneralCone};
-pub use mesh::Mesh;
-pub use polyhedron::{Plane, Polyhedron};
-pub use quadric::{Ellipsoid, Quadric};
+pub use ellipsoid::Ellipsoid;
+pub use mesh::{ars_triangles, Mesh};
+pub use polyhedron::{arb_points, Plane, Polyhedron};
+pub use quadric::Quadric;
 pub use rpp::Rpp;
 pub use sphere::Sphere;
 pub use torus::Torus;
@@ -277,7 +286,6 @@ pub(crate) fn segments_by_classification(
     }
     out.extend(cur);
 }
-pub(crate) use polyhedron::convex_hull_planes as polyhedron_hull;
 
 #[cfg(test)]
 mod tests {

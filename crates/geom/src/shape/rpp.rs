@@ -1,5 +1,7 @@
 use super::Seg;
 use super::SegLanes;
+use crate::body::Warning;
+use crate::Body;
 use sv_math::lanes::{not, Lanes};
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
@@ -154,4 +156,21 @@ impl Clip {
         }
         self.t0 <= self.t1
     }
+}
+
+/// RPP: xmin xmax ymin ymax zmin zmax, each minimum below its maximum.
+pub(crate) fn prepare_rpp(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let p = &b.params;
+    let min = DVec3::new(p[0], p[2], p[4]);
+    let max = DVec3::new(p[1], p[3], p[5]);
+    for (a, n) in ["x", "y", "z"].iter().enumerate() {
+        if min[a] >= max[a] {
+            return Err(format!(
+                "{n}min ({}) must be less than {n}max ({})",
+                min[a], max[a]
+            ));
+        }
+    }
+    let bounds = Aabb::new(min, max);
+    Ok((super::Shape::Rpp(Rpp::new(bounds)), bounds))
 }

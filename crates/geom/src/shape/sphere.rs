@@ -1,5 +1,7 @@
 use super::Seg;
 use super::SegLanes;
+use crate::body::{positive, Warning};
+use crate::Body;
 use sv_math::lanes::{back, dot, normalize, not, sub_point, Lanes};
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
@@ -87,4 +89,11 @@ impl Sphere {
     pub(crate) fn bounds(&self) -> Aabb {
         Aabb::new(self.c - DVec3::splat(self.r), self.c + DVec3::splat(self.r))
     }
+}
+
+/// SPH: centre V, radius R.
+pub(crate) fn prepare_sph(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let sphere = Sphere::new(b.vec3(0), positive(b.params[3], "radius")?);
+    let bounds = sphere.bounds();
+    Ok((super::Shape::Sphere(sphere), bounds))
 }

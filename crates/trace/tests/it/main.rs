@@ -1,3 +1,3 @@
 //! Integration tests of the geometry engine.
-mod conformance;
+mod bodies;
 mod regions;

@@ -26,14 +26,14 @@ mod bvh;
 mod lightbuf;
 mod packet;
 mod prepare;
-mod sight;
+mod raster;
 mod trace;
 
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use packet::Tile;
 pub use prepare::{PrepareError, PrepareOptions, Prepared};
 pub use sv_geom::Warning;
-pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, Scratch, Seen, Step};
+pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, RasterExtent, Scratch, Step};
 
 /// Numbers spread evenly over `[0, 1)` for the tests, from a 64-bit linear
 /// congruential generator started at `seed`: the same every run.

@@ -2,7 +2,7 @@
 //! in flat arrays and build the bounding volume hierarchies.
 
 use crate::bvh::Bvh;
-use crate::sight::Sight;
+use crate::raster::RasterProxy;
 use sv_geom::shape::{Shape, Sphere};
 use sv_geom::{Geometry, Op, Warning};
 use sv_math::{Aabb, DVec3};
@@ -32,7 +32,7 @@ pub struct PrepareError {
 }
 
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct PZone {
+pub(crate) struct PreparedZone {
     pub region: u32,
     /// Terms in `terms[first..first+plus]` are `+`, the next `minus` are `-`.
     pub first: u32,
@@ -51,7 +51,7 @@ pub(crate) struct PZone {
 /// Something tighter than a zone's box that holds the zone, from one of its
 /// `+` bodies: for rays that meet the box but cannot meet the zone.
 #[derive(Clone, Copy, Debug)]
-pub(crate) enum Tight {
+pub(crate) enum Enclosure {
     /// Nothing better than the box.
     Box,
     /// The ball of a sphere among its `+` bodies: centre and radius, kept
@@ -62,9 +62,9 @@ pub(crate) enum Tight {
     Points(u32, u32),
 }
 
-/// A zone's [`Tight`], resolved by [`Prepared::tighter`].
+/// A zone's [`Enclosure`], resolved by [`Prepared::enclosure`].
 #[derive(Clone, Copy)]
-pub(crate) enum Tighter<'a> {
+pub(crate) enum EnclosureRef<'a> {
     /// Nothing better than the box.
     Box,
     /// The ball of a sphere among its `+` bodies: centre and radius.
@@ -80,7 +80,7 @@ pub(crate) enum Tighter<'a> {
 pub struct Prepared {
     pub(crate) shapes: Vec<Shape>,
     pub(crate) body_bounds: Vec<Aabb>,
-    pub(crate) zones: Vec<PZone>,
+    pub(crate) zones: Vec<PreparedZone>,
     pub(crate) terms: Vec<u32>,
     pub(crate) opaque: Vec<bool>,
     pub(crate) bvh_all: Bvh,
@@ -89,11 +89,11 @@ pub struct Prepared {
     pub(crate) unbounded_opaque: Vec<u32>,
     /// The bounded zones of opaque regions, in the order of the zones, as
     /// a raster sees them.
-    pub(crate) sights: Vec<Sight>,
+    pub(crate) raster_proxies: Vec<RasterProxy>,
     pub(crate) tol: f64,
     /// Per zone, something tighter than its box that holds it.
-    pub(crate) tight: Vec<Tight>,
-    /// The points of [`Tight::Points`].
+    pub(crate) enclosures: Vec<Enclosure>,
+    /// The points of [`Enclosure::Points`].
     pub(crate) hull_pts: Vec<DVec3>,
     bounds: Aabb,
     opaque_bounds: Aabb,
@@ -196,7 +196,7 @@ impl Prepared {
                 let convex = plus.iter().all(|&b| shapes[b as usize].is_convex());
                 let lanes =
                     !plus.is_empty() && plus.iter().all(|&b| shapes[b as usize].has_lanes());
-                zones.push(PZone {
+                zones.push(PreparedZone {
                     convex,
                     lanes,
                     region: ri as u32,
@@ -257,25 +257,25 @@ impl Prepared {
             }
         }
         let mut hull_pts = Vec::new();
-        let tight: Vec<Tight> = zones
+        let enclosures: Vec<Enclosure> = zones
             .iter()
             .map(|z| {
                 let plus = &terms[z.first as usize..z.first as usize + z.plus as usize];
                 plus.iter()
                     .find_map(|&b| match &shapes[b as usize] {
-                        Shape::Sphere(sp) => Some(Tight::Ball(sp.c, sp.r)),
+                        Shape::Sphere(sp) => Some(Enclosure::Ball(sp.c, sp.r)),
                         s => s.hull_points(tol).map(|pts| {
                             let a = hull_pts.len() as u32;
                             hull_pts.extend(pts);
-                            Tight::Points(a, hull_pts.len() as u32)
+                            Enclosure::Points(a, hull_pts.len() as u32)
                         }),
                     })
-                    .unwrap_or(Tight::Box)
+                    .unwrap_or(Enclosure::Box)
             })
             .collect();
-        let sights = bounded_opaque
+        let raster_proxies = bounded_opaque
             .iter()
-            .map(|&(zi, b)| Sight::new(zi, &b, &tight[zi as usize]))
+            .map(|&(zi, b)| RasterProxy::new(zi, &b, &enclosures[zi as usize]))
             .collect();
         let p = Prepared {
             shapes,
@@ -287,9 +287,9 @@ impl Prepared {
             opaque,
             unbounded_all,
             unbounded_opaque,
-            sights,
+            raster_proxies,
             tol,
-            tight,
+            enclosures,
             hull_pts,
             bounds,
             opaque_bounds,
@@ -341,11 +341,11 @@ impl Prepared {
 
     /// What is known of zone `zi`'s shape beyond its box.
     #[inline]
-    pub(crate) fn tighter(&self, zi: u32) -> Tighter<'_> {
-        match self.tight[zi as usize] {
-            Tight::Ball(c, r) => Tighter::Ball(c, r),
-            Tight::Points(a, e) => Tighter::Points(&self.hull_pts[a as usize..e as usize]),
-            Tight::Box => Tighter::Box,
+    pub(crate) fn enclosure(&self, zi: u32) -> EnclosureRef<'_> {
+        match self.enclosures[zi as usize] {
+            Enclosure::Ball(c, r) => EnclosureRef::Ball(c, r),
+            Enclosure::Points(a, e) => EnclosureRef::Points(&self.hull_pts[a as usize..e as usize]),
+            Enclosure::Box => EnclosureRef::Box,
         }
     }
 
@@ -367,7 +367,7 @@ impl Prepared {
             .any(|z| self.zone_contains(z, p))
     }
 
-    pub(crate) fn zone_contains(&self, z: &PZone, p: DVec3) -> bool {
+    pub(crate) fn zone_contains(&self, z: &PreparedZone, p: DVec3) -> bool {
         let t = &self.terms[z.first as usize..];
         let (plus, minus) = t.split_at(z.plus as usize);
         plus.iter().all(|&b| self.shapes[b as usize].contains(p))
@@ -406,16 +406,16 @@ fn permute<T>(v: &mut [T], from: &[u32]) {
 /// 100,000 random spheres rendered 20 % slower (BENCHMARKS.md, twelfth
 /// round).
 fn in_space_order(
-    zones: Vec<PZone>,
+    zones: Vec<PreparedZone>,
     terms: Vec<u32>,
     bodies: usize,
-) -> (Vec<PZone>, Vec<u32>, Vec<u32>, Vec<u32>) {
+) -> (Vec<PreparedZone>, Vec<u32>, Vec<u32>, Vec<u32>) {
     let all = zones
         .iter()
         .filter(|z| z.bounds.is_finite())
         .fold(Aabb::EMPTY, |a, z| a.union(&z.bounds));
     let size = all.size().max(DVec3::splat(f64::MIN_POSITIVE));
-    let key = |z: &PZone| -> u64 {
+    let key = |z: &PreparedZone| -> u64 {
         if !z.bounds.is_finite() || all.is_empty() {
             return 0;
         }
@@ -451,7 +451,7 @@ fn in_space_order(
         let z = &zones[zi as usize];
         let first = z.first as usize;
         let n = z.plus as usize + z.minus as usize;
-        new_zones.push(PZone {
+        new_zones.push(PreparedZone {
             first: new_terms.len() as u32,
             ..*z
         });

@@ -26,7 +26,7 @@
 //! function compiled without its instruction set stays a call, and a call
 //! per operation undoes the lanes' gain.
 
-use crate::prepare::{PZone, Prepared};
+use crate::prepare::{Prepared, PreparedZone};
 use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
 use sv_geom::boolean::Bound;
@@ -123,7 +123,7 @@ struct SpanLanes<S: Simd> {
 /// Each lane's best hit so far, as [`Prepared::consider`] keeps it for one
 /// ray: the lowest entry (ties to the lower region), and the limit past
 /// which no zone can do better.
-struct Best<S: Simd> {
+struct NearestHit<S: Simd> {
     tmin: S::F,
     limit: S::F,
     t: S::F,
@@ -134,11 +134,11 @@ struct Best<S: Simd> {
     a: End<S>,
 }
 
-impl<S: Simd> Best<S> {
+impl<S: Simd> NearestHit<S> {
     #[inline(always)]
-    fn new(s: S, tmin: f64, tmax: f64) -> Best<S> {
+    fn new(s: S, tmin: f64, tmax: f64) -> NearestHit<S> {
         let none = s.splat(f64::from(u32::MAX));
-        Best {
+        NearestHit {
             tmin: s.splat(tmin),
             limit: s.splat(tmax),
             t: s.splat(f64::INFINITY),
@@ -171,14 +171,14 @@ impl<S: Simd> Best<S> {
             return 0;
         }
         let (t, region, zone) = (
-            Spill::of(s, self.t),
-            Spill::of(s, self.region),
-            Spill::of(s, self.zone),
+            LaneValues::of(s, self.t),
+            LaneValues::of(s, self.region),
+            LaneValues::of(s, self.zone),
         );
         let (at, body, face) = (
-            Spill::of(s, self.a.t),
-            Spill::of(s, self.a.body),
-            Spill::of(s, self.a.face),
+            LaneValues::of(s, self.a.t),
+            LaneValues::of(s, self.a.body),
+            LaneValues::of(s, self.a.face),
         );
         let inside = s.bits(self.inside);
         let mut n = 0;
@@ -228,13 +228,13 @@ impl<S: Simd> Best<S> {
         normals: &mut [DVec3],
     ) {
         // Written only for the lanes of `in_lanes`.
-        let mut out = [const { MaybeUninit::<Spill>::uninit() }; 3];
+        let mut out = [const { MaybeUninit::<LaneValues>::uninit() }; 3];
         let mut in_lanes = 0;
         // Inside a region, or on no body: facing the ray.
         let facing = s.or(self.inside, s.eq(self.a.body, s.splat(f64::from(u32::MAX))));
         let mut todo = hit & !s.bits(facing);
         let mut one_by_one = hit & s.bits(facing);
-        let bodies = Spill::of(s, self.a.body);
+        let bodies = LaneValues::of(s, self.a.body);
         // The face without the flip bit (set for subtracted bodies), and
         // the points hit.
         let flip = s.ge(self.a.face, s.splat(FLIP));
@@ -253,11 +253,11 @@ impl<S: Simd> Best<S> {
             let lanes = shape.normal_lanes(s, face, at);
             if in_lanes == 0 {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    o.write(Spill::of(s, s.select(flip, s.neg(l), l)));
+                    o.write(LaneValues::of(s, s.select(flip, s.neg(l), l)));
                 }
             } else {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    let v = Spill::of(s, s.select(flip, s.neg(l), l));
+                    let v = LaneValues::of(s, s.select(flip, s.neg(l), l));
                     // SAFETY: written when the first group was.
                     let o = unsafe { o.assume_init_mut() };
                     for (k, x) in o.0.iter_mut().enumerate().take(S::LANES) {
@@ -294,14 +294,14 @@ const FLIP: f64 = 2_147_483_648.0;
 /// Working values of a packet's lanes, one place per lane, for the lanes
 /// left to the scalar code.
 #[derive(Clone, Copy)]
-pub(crate) struct Spill(pub [f64; MAX_LANES]);
+pub(crate) struct LaneValues(pub [f64; MAX_LANES]);
 
-impl Spill {
+impl LaneValues {
     #[inline(always)]
-    fn of<S: Simd>(s: S, x: S::F) -> Spill {
+    fn of<S: Simd>(s: S, x: S::F) -> LaneValues {
         let mut v = [0.0; MAX_LANES];
         s.store(x, &mut v);
-        Spill(v)
+        LaneValues(v)
     }
 }
 
@@ -310,15 +310,15 @@ impl Spill {
 #[inline(always)]
 fn lane_rays<S: Simd>(s: S, r: &Lanes<S>) -> [Ray; MAX_LANES] {
     let c = [
-        Spill::of(s, r.o[0]),
-        Spill::of(s, r.o[1]),
-        Spill::of(s, r.o[2]),
-        Spill::of(s, r.d[0]),
-        Spill::of(s, r.d[1]),
-        Spill::of(s, r.d[2]),
-        Spill::of(s, r.inv[0]),
-        Spill::of(s, r.inv[1]),
-        Spill::of(s, r.inv[2]),
+        LaneValues::of(s, r.o[0]),
+        LaneValues::of(s, r.o[1]),
+        LaneValues::of(s, r.o[2]),
+        LaneValues::of(s, r.d[0]),
+        LaneValues::of(s, r.d[1]),
+        LaneValues::of(s, r.d[2]),
+        LaneValues::of(s, r.inv[0]),
+        LaneValues::of(s, r.inv[1]),
+        LaneValues::of(s, r.inv[2]),
     ];
     std::array::from_fn(|j| Ray {
         origin: DVec3::new(c[0].0[j], c[1].0[j], c[2].0[j]),
@@ -336,7 +336,7 @@ impl Prepared {
         zi: u32,
         r: &Lanes<S>,
         m: S::M,
-        b: &mut Best<S>,
+        b: &mut NearestHit<S>,
         sc: &mut Scratch,
     ) {
         let z = &self.zones[zi as usize];
@@ -358,16 +358,16 @@ impl Prepared {
         if left != 0 {
             // The scalar code's answers written over the lanes'.
             let mut ends = [
-                Spill::of(s, sp.a.t),
-                Spill::of(s, sp.a.body),
-                Spill::of(s, sp.a.face),
+                LaneValues::of(s, sp.a.t),
+                LaneValues::of(s, sp.a.body),
+                LaneValues::of(s, sp.a.face),
             ];
             let found = self.spans_one_by_one(
                 z,
                 &lane_rays(s, r),
                 left,
-                &Spill::of(s, b.limit),
-                Spill::of(s, b.tmin).0[0],
+                &LaneValues::of(s, b.limit),
+                LaneValues::of(s, b.tmin).0[0],
                 sc,
                 &mut ends,
             );
@@ -414,13 +414,13 @@ impl Prepared {
     #[inline(never)]
     fn spans_one_by_one(
         &self,
-        z: &PZone,
+        z: &PreparedZone,
         rays: &[Ray; MAX_LANES],
         lanes: u32,
-        limit: &Spill,
+        limit: &LaneValues,
         tmin: f64,
         sc: &mut Scratch,
-        ends: &mut [Spill; 3],
+        ends: &mut [LaneValues; 3],
     ) -> u32 {
         let mut found = 0;
         for (j, ray) in rays.iter().enumerate() {
@@ -440,7 +440,7 @@ impl Prepared {
     }
 
     /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
-    /// zone of [`PZone::lanes`]: the span, the lanes that have one, and the
+    /// zone of [`PreparedZone::lanes`]: the span, the lanes that have one, and the
     /// lanes left to the scalar code (where the `-` bodies would leave more
     /// than two spans). Each step is [`Prepared::convex_spans`]' for one span
     /// and one segment, or the lists' for two spans and one segment.
@@ -448,7 +448,7 @@ impl Prepared {
     fn zone_lanes<S: Simd>(
         &self,
         s: S,
-        z: &PZone,
+        z: &PreparedZone,
         r: &Lanes<S>,
         m: S::M,
         lo: S::F,
@@ -529,12 +529,12 @@ impl Prepared {
                 continue;
             }
             let c = span(s, &g, b);
-            let first = cut(s, cur, c, mm, tol);
+            let first = subtract_span(s, cur, c, mm, tol);
             if !s.any(two) {
                 alive = s.and(alive, first.some);
                 (cur, next, two) = (first.one, first.other, first.both);
             } else {
-                let second = cut(s, next, c, s.and(mm, two), tol);
+                let second = subtract_span(s, next, c, s.and(mm, two), tol);
                 let (some2, both2) = (s.and(two, second.some), s.and(two, second.both));
                 // The spans left, in order: the first's, then the second's.
                 let three = s.or(s.and(first.both, some2), s.and(first.some, both2));
@@ -575,7 +575,13 @@ impl Prepared {
 /// `p` as it was): [`sv_geom::boolean::subtract_with`]'s step for one span and
 /// one segment that meets it.
 #[inline(always)]
-fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> Cut<S> {
+fn subtract_span<S: Simd>(
+    s: S,
+    p: SpanLanes<S>,
+    c: SpanLanes<S>,
+    m: S::M,
+    tol: S::F,
+) -> SpanRemainder<S> {
     // Only where the segment reaches into the span.
     let m = s.and(m, s.and(s.gt(c.b.t, p.a.t), s.lt(c.a.t, p.b.t)));
     let start = p.a;
@@ -592,7 +598,7 @@ fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> C
             b: p.b,
         },
     );
-    Cut {
+    SpanRemainder {
         one: pick_span(s, m, pick_span(s, before, before_span, after_span), p),
         other: after_span,
         some: s.or(not(s, m), s.or(before, after)),
@@ -602,7 +608,7 @@ fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> C
 
 /// A span less a segment, in every lane: none, one (`one`) or two (`one`
 /// then `other`) spans.
-struct Cut<S: Simd> {
+struct SpanRemainder<S: Simd> {
     one: SpanLanes<S>,
     other: SpanLanes<S>,
     /// Lanes with one span or two.

@@ -9,7 +9,7 @@
 //! than `tol` are closed. This is what keeps coincident faces (a body
 //! subtracted flush with a face of another, two regions sharing a face)
 //! free of speckles: rounding leaves slivers of 1e-15 relative size that
-//! would otherwise be seen as surfaces. [`crate::Prepared`] sets `tol` to
+//! would otherwise be seen as surfaces. sv-trace's `Prepared` sets `tol` to
 //! 1e-7 of the model's bounding-box diagonal unless told otherwise.
 
 /// One end of a span.
@@ -23,7 +23,7 @@ pub struct Bound {
     pub t: f64,
     /// Body whose surface is crossed. In the bounds of hits and partitions
     /// this is the prepared body number, which
-    /// [`Prepared::body_index`](crate::Prepared::body_index) turns into the
+    /// `Prepared::body_index` (sv-trace) turns into the
     /// body's index in the geometry.
     pub body: u32,
     /// The face of that body in the low bits, [`Bound::FLIP`] when the body
@@ -33,7 +33,7 @@ pub struct Bound {
 
 impl Bound {
     /// The bit of `face_flip` set for a subtracted body.
-    const FLIP: u32 = 1 << 31;
+    pub const FLIP: u32 = 1 << 31;
 
     /// The end at `t` on `face` of `body` (faces below 2³¹), not flipped.
     pub const fn new(t: f64, body: u32, face: u32) -> Bound {

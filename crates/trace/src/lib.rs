@@ -23,17 +23,21 @@
 #![warn(missing_docs)]
 
 mod bvh;
+mod frustum;
+mod hit;
 mod lightbuf;
 mod packet;
 mod prepare;
+mod query;
 mod raster;
-mod trace;
+mod zone;
 
+pub use frustum::{Frustum, RasterExtent};
+pub use hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use packet::Tile;
 pub use prepare::{PrepareError, PrepareOptions, Prepared};
 pub use sv_geom::Warning;
-pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, RasterExtent, Scratch, Step};
 
 /// Numbers spread evenly over `[0, 1)` for the tests, from a 64-bit linear
 /// congruential generator started at `seed`: the same every run.

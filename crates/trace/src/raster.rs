@@ -4,8 +4,8 @@
 //! 10 MB in double precision, read anew in every frame after the rays have
 //! pushed them out of the caches.
 
+use crate::frustum::RasterExtent;
 use crate::prepare::{Enclosure, EnclosureRef, Prepared};
-use crate::trace::RasterExtent;
 use sv_math::{Aabb, DVec3, RayGen};
 
 /// A bounded opaque zone's box, and the ball of a sphere among its `+`

@@ -103,8 +103,10 @@ impl Cone {
         super::ends((self.f.v, a, b), (self.f.v + h, a * r, b * r))
     }
 
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
     #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);
         let Some((mut t0, mut t1, mut f0, mut f1)) = Frame::slab(o, d) else {
             return;
@@ -126,7 +128,7 @@ impl Cone {
     }
 
     /// [`Cone::shoot`] in every lane, operation for operation: the slab
-    /// between base and top, then [`Cone::lateral`]'s cases, each lane
+    /// between base and top, then the lateral surface's cases, each lane
     /// taking the one its ray takes.
     #[inline(always)]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
@@ -300,7 +302,8 @@ impl Cone {
         })
     }
 
-    pub(crate) fn normal(&self, face: u32, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, face: u32, p: DVec3) -> DVec3 {
         match face {
             BASE => self.f.world_normal(-DVec3::Z),
             TOP => self.f.world_normal(DVec3::Z),
@@ -332,13 +335,15 @@ impl Cone {
         normalize(s, mat_vec(s, &self.f.inv_t, g))
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         let q = self.f.inv * (p - self.f.v);
         let s = 1.0 + self.k * q.z;
         q.z > 0.0 && q.z < 1.0 && q.x * q.x + q.y * q.y < s * s
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         self.f.bounds(1.0 + self.k, 1.0 + self.k)
     }
 }
@@ -380,7 +385,9 @@ impl GeneralCone {
         q.z > 0.0 && q.z < 1.0 && (q.x / sa).powi(2) + (q.y / sb).powi(2) < 1.0
     }
 
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);
         let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else {
             return;
@@ -432,7 +439,8 @@ impl GeneralCone {
         segments_by_classification(&mut cands[..2 + n], ray, world_inside, out);
     }
 
-    pub(crate) fn normal(&self, face: u32, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, face: u32, p: DVec3) -> DVec3 {
         match face {
             BASE => self.f.world_normal(-DVec3::Z),
             TOP => self.f.world_normal(DVec3::Z),
@@ -450,11 +458,13 @@ impl GeneralCone {
         }
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         self.inside_local(self.f.inv * (p - self.f.v))
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         self.f.bounds(1.0 + self.ka, 1.0 + self.kb)
     }
 }

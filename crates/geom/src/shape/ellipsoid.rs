@@ -34,8 +34,10 @@ impl Ellipsoid {
         super::ends((self.c - h, a, b), (self.c + h, a, b))
     }
 
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
     #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let o = self.inv * (ray.origin - self.c);
         let d = self.inv * ray.dir;
         // In the unit sphere's frame: the closest approach to the centre,
@@ -82,7 +84,8 @@ impl Ellipsoid {
         }
     }
 
-    pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, p: DVec3) -> DVec3 {
         (self.inv_t * (self.inv * (p - self.c))).normalize()
     }
 
@@ -93,11 +96,13 @@ impl Ellipsoid {
         normalize(s, mat_vec(s, &self.inv_t, q))
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         (self.inv * (p - self.c)).length_squared() < 1.0
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         // Half-extent along axis i is the length of row i of M.
         let r = self.m.transpose();
         let e = DVec3::new(r.x_axis.length(), r.y_axis.length(), r.z_axis.length());

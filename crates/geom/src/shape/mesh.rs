@@ -60,7 +60,9 @@ impl Mesh {
         self.tris.len()
     }
 
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         if self.bounds.ray_range(ray).is_none() {
             return;
         }
@@ -116,11 +118,13 @@ impl Mesh {
         out.truncate(base + pairs);
     }
 
-    pub(crate) fn normal(&self, face: u32) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, face: u32) -> DVec3 {
         self.tris[face as usize].n
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         let ray = Ray::new(
             p,
             DVec3::new(
@@ -134,7 +138,8 @@ impl Mesh {
         segs.iter().any(|s| s.t0 < 0.0 && s.t1 > 0.0)
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         self.bounds
     }
 }

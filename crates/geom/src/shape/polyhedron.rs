@@ -36,8 +36,10 @@ impl Polyhedron {
         &self.planes
     }
 
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
     #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let mut t0 = f64::NEG_INFINITY;
         let mut t1 = f64::INFINITY;
         let (mut f0, mut f1) = (0, 0);
@@ -147,7 +149,8 @@ impl Polyhedron {
         (out.len() >= 4 && reaches && faces).then_some(out)
     }
 
-    pub(crate) fn normal(&self, face: u32) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, face: u32) -> DVec3 {
         self.planes[face as usize].n
     }
 
@@ -166,11 +169,13 @@ impl Polyhedron {
         n
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         self.planes.iter().all(|pl| pl.n.dot(p) < pl.d)
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         self.bounds
     }
 }

@@ -23,7 +23,9 @@ impl Quadric {
         p.dot(self.m * p) + 2.0 * self.b.dot(p) + self.c
     }
 
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d) = (ray.origin, ray.dir);
         let md = self.m * d;
         let a = d.dot(md);
@@ -100,11 +102,13 @@ impl Quadric {
         }
     }
 
-    pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, p: DVec3) -> DVec3 {
         (self.m * p + self.b).normalize()
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         self.value(p) < 0.0
     }
 }

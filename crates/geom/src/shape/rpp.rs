@@ -19,8 +19,10 @@ impl Rpp {
         Rpp { b }
     }
 
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
     #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let (o, d, inv, b) = (ray.origin, ray.dir, ray.inv_dir, &self.b);
         let mut c = Clip {
             t0: f64::NEG_INFINITY,
@@ -44,7 +46,7 @@ impl Rpp {
     }
 
     /// [`Rpp::shoot`] in every lane, operation for operation: each axis's
-    /// [`Clip::slab`], with the faces held as `f64`.
+    /// `Clip::slab`, with the faces held as `f64`.
     #[inline(always)]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let zero = s.splat(0.0);
@@ -79,7 +81,8 @@ impl Rpp {
         }
     }
 
-    pub(crate) fn normal(&self, face: u32) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, face: u32) -> DVec3 {
         let mut n = DVec3::ZERO;
         n[(face / 2) as usize] = if face.is_multiple_of(2) { -1.0 } else { 1.0 };
         n
@@ -95,11 +98,13 @@ impl Rpp {
         ]
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         p.cmpgt(self.b.min).all() && p.cmplt(self.b.max).all()
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         self.b
     }
 }

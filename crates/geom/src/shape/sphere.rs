@@ -28,8 +28,10 @@ impl Sphere {
         }
     }
 
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
     #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let oc = ray.origin - self.c;
         // |dir| = 1: the ray comes closest to the centre at `t = -b`, a
         // distance |f| away, and meets the sphere half a chord either side.
@@ -70,7 +72,8 @@ impl Sphere {
         }
     }
 
-    pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, p: DVec3) -> DVec3 {
         ((p - self.c) * self.inv_r).normalize()
     }
 
@@ -82,11 +85,13 @@ impl Sphere {
         normalize(s, [s.mul(q[0], r), s.mul(q[1], r), s.mul(q[2], r)])
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         (p - self.c).length_squared() < self.r2
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         Aabb::new(self.c - DVec3::splat(self.r), self.c + DVec3::splat(self.r))
     }
 }

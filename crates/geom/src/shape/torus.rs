@@ -36,7 +36,9 @@ impl Torus {
         rho * rho + q.z * q.z < self.r2 * self.r2
     }
 
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+    /// Append the segments of the ray inside the body to `out` (see
+    /// [`super::Shape::shoot`]).
+    pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
         let o = self.rot * (ray.origin - self.c);
         let d = self.rot * ray.dir;
         let e = self.r1 + self.r2;
@@ -73,17 +75,20 @@ impl Torus {
         segments_by_classification(&mut cands[..n], ray, inside, out);
     }
 
-    pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
+    /// Outward unit normal at a point of the surface.
+    pub fn normal(&self, p: DVec3) -> DVec3 {
         let q = self.rot * (p - self.c);
         let ring = DVec3::new(q.x, q.y, 0.0).normalize_or_zero() * self.r1;
         (self.rot.transpose() * (q - ring)).normalize()
     }
 
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
+    /// True when `p` is strictly inside.
+    pub fn contains(&self, p: DVec3) -> bool {
         self.inside_local(self.rot * (p - self.c))
     }
 
-    pub(crate) fn bounds(&self) -> Aabb {
+    /// Bounds (infinite sides where the body is unbounded).
+    pub fn bounds(&self) -> Aabb {
         // Extent along world axis i: r1·sqrt(1 − n_i²) + r2.
         let n = self.axis;
         let e = DVec3::new(

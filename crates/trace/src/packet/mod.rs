@@ -26,8 +26,8 @@
 //! function compiled without its instruction set stays a call, and a call
 //! per operation undoes the lanes' gain.
 
+use crate::hit::{Hit, Scratch};
 use crate::prepare::{Prepared, PreparedZone};
-use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
 use sv_geom::boolean::Bound;
 use sv_geom::shape::SegLanes;

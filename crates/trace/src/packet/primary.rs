@@ -3,8 +3,8 @@
 
 use super::{lane_rays, NearestHit};
 use crate::bvh::{Child, WideNode, STACK, WIDTH};
+use crate::hit::{Hit, Scratch};
 use crate::prepare::Prepared;
-use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
 use sv_math::lanes::{dot, slab_lanes, splat3, Lanes, MAX_LANES};
 use sv_math::simd::Simd;

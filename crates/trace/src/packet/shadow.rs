@@ -1,9 +1,9 @@
 //! Shadow rays toward a parallel light, in packets.
 
 use super::LaneValues;
+use crate::hit::Scratch;
 use crate::lightbuf::{Grid, LightBuffer, Place};
 use crate::prepare::{Prepared, PreparedZone};
-use crate::trace::Scratch;
 use sv_math::lanes::{box_lanes, dot, splat3, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};

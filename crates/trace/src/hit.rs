@@ -1,0 +1,141 @@
+//! What ray queries give back (hits, partitions, crossings, steps), and
+//! the per-thread working memory they reuse from ray to ray.
+
+use crate::bvh::Stack;
+use crate::prepare::Prepared;
+use sv_geom::boolean::{Bound, Span};
+use sv_geom::shape::Seg;
+
+/// Per-thread working memory. Reused from ray to ray, so tracing allocates
+/// nothing once it has warmed up.
+#[derive(Clone, Debug)]
+pub struct Scratch {
+    pub(crate) ray_id: u32,
+    /// Per body: the ray it was last cast along and its segments' range in
+    /// `segs` for that ray, side by side so that one look-up finds all
+    /// three.
+    pub(crate) cache: Vec<[u32; 3]>,
+    pub(crate) segs: Vec<Seg>,
+    pub(crate) cur: Vec<Span>,
+    pub(crate) tmp: Vec<Span>,
+    pub(crate) tagged: Vec<(u32, Span)>,
+    pub(crate) stack: Stack,
+    /// Per zone, the packet of shadow rays that last tested it, so that a
+    /// packet tests each zone its rays' cells list once.
+    pub(crate) tested: Vec<u32>,
+    pub(crate) packet: u32,
+}
+
+impl Scratch {
+    /// Working memory for `p`.
+    pub fn new(p: &Prepared) -> Scratch {
+        Scratch {
+            ray_id: 0,
+            cache: vec![[0; 3]; p.shapes.len()],
+            segs: Vec::with_capacity(64),
+            cur: Vec::with_capacity(16),
+            tmp: Vec::with_capacity(16),
+            tagged: Vec::new(),
+            stack: Stack::new(),
+            tested: vec![0; p.zones.len()],
+            packet: 0,
+        }
+    }
+
+    /// Begin a packet of shadow rays: no zone is yet tested for it.
+    pub(crate) fn new_packet(&mut self) {
+        self.packet = self.packet.wrapping_add(1);
+        if self.packet == 0 {
+            self.tested.iter_mut().for_each(|t| *t = 0);
+            self.packet = 1;
+        }
+    }
+
+    /// Forget the previous ray's cached body segments.
+    pub(crate) fn new_ray(&mut self) {
+        self.ray_id = self.ray_id.wrapping_add(1);
+        if self.ray_id == 0 {
+            self.cache.iter_mut().for_each(|c| c[0] = 0);
+            self.ray_id = 1;
+        }
+        self.segs.clear();
+    }
+}
+
+/// The first visible surface along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Region entered.
+    pub region: u32,
+    /// Surface crossed: body (prepared number, see
+    /// [`Prepared::body_index`]), face and whether it was subtracted.
+    pub bound: Bound,
+    /// True when the ray started inside the region (no surface crossed).
+    pub inside: bool,
+    /// The zone of the region that was hit.
+    pub zone: u32,
+}
+
+impl Hit {
+    /// No hit: any hit found is better (region `u32::MAX` marks it).
+    pub const NONE: Hit = Hit {
+        t: f64::INFINITY,
+        region: u32::MAX,
+        bound: Bound::new(f64::INFINITY, u32::MAX, 0),
+        inside: false,
+        zone: u32::MAX,
+    };
+
+    /// False for [`Hit::NONE`].
+    pub fn is_some(&self) -> bool {
+        self.region != u32::MAX
+    }
+}
+
+/// A stretch of the ray inside one region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Partition {
+    /// Region.
+    pub region: u32,
+    /// Entry and exit.
+    pub span: Span,
+}
+
+/// One surface crossing along a ray (for `shoot`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Entering (true) or leaving the region.
+    pub entering: bool,
+    /// Region entered or left.
+    pub region: u32,
+    /// Body whose surface is crossed.
+    pub body: u32,
+    /// Face of that body.
+    pub face: u32,
+}
+
+/// The order of [`Prepared::by_distance`]: by entry bound, then by zone.
+pub fn by_entry(a: &(f64, u32), b: &(f64, u32)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
+/// One body-surface crossing along a ray, with the regions the ray is in
+/// just after it (for `shoot`, the paper's Figure 3 walk-through).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// Distance along the ray.
+    pub t: f64,
+    /// Body crossed.
+    pub body: u32,
+    /// Face of the body.
+    pub face: u32,
+    /// True when the ray enters the body here.
+    pub entering: bool,
+    /// Regions containing the ray just past this point (empty: outside
+    /// the geometry; more than one: an overlap).
+    pub regions_after: Vec<u32>,
+}

@@ -1,0 +1,448 @@
+//! Ray queries: the first opaque region hit (front to back, lazily), any
+//! hit (shadows), the full list of region partitions along a ray, its
+//! surface crossings, and the walk of every body surface (`shoot`).
+
+use crate::bvh::{hits, Bvh};
+use crate::hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
+use crate::prepare::Prepared;
+use crate::raster::entry_of;
+use sv_geom::boolean::push_merged;
+use sv_math::{DVec3, Ray};
+
+impl Prepared {
+    /// Walk `bvh` along the ray with the scratch's stack, as
+    /// [`Bvh::traverse`], handing `visit` each leaf's zones, the limit and
+    /// the scratch.
+    #[inline]
+    fn leaves(
+        &self,
+        bvh: &Bvh,
+        ray: &Ray,
+        tmin: f64,
+        limit: &mut f64,
+        s: &mut Scratch,
+        mut visit: impl FnMut(&[u32], &mut f64, &mut Scratch) -> bool,
+    ) {
+        let mut stack = std::mem::take(&mut s.stack);
+        bvh.traverse(ray, tmin, limit, &mut stack, |items, limit| {
+            visit(items, limit, s)
+        });
+        s.stack = stack;
+    }
+
+    /// The first surface of an opaque region met along the ray with
+    /// `tmin < t < tmax`. A ray that starts inside an opaque region hits it
+    /// at `tmin` with `inside` set. Ties between regions sharing a surface
+    /// go to the lower region index, and within a region to the lower zone,
+    /// so the answer does not depend on the order in which the hierarchy is
+    /// walked.
+    pub fn first_hit(&self, ray: &Ray, tmin: f64, tmax: f64, s: &mut Scratch) -> Option<Hit> {
+        s.new_ray();
+        let mut best = Hit::NONE;
+        let mut limit = tmax;
+        for &zi in &self.unbounded_opaque {
+            self.consider(zi, ray, tmin, &mut limit, &mut best, s);
+        }
+        self.leaves(
+            &self.bvh_opaque,
+            ray,
+            tmin,
+            &mut limit,
+            s,
+            |items, limit, s| {
+                for &zi in items {
+                    self.consider(zi, ray, tmin, limit, &mut best, s);
+                }
+                false
+            },
+        );
+        best.is_some().then_some(best)
+    }
+
+    /// As [`Prepared::first_hit`], but looking only at `zones` (from
+    /// [`Prepared::frustum_zones`] for a bundle of rays), each given with a
+    /// lower bound of the distance at which any ray of the bundle can enter
+    /// it, sorted by that bound. Gives exactly the same answer for any ray
+    /// of the bundle; stops as soon as no remaining zone can come nearer.
+    ///
+    /// The hit is written into `out` ([`Hit::NONE`] when there is none),
+    /// which may be its final place: a hit built field by field and then
+    /// copied whole stalls the processor (the copy's wide loads cannot be
+    /// forwarded from the narrow stores still in flight).
+    pub fn first_hit_in(
+        &self,
+        zones: &[(f64, u32)],
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Hit,
+    ) -> bool {
+        s.new_ray();
+        *out = Hit::NONE;
+        let mut limit = tmax;
+        for &(near, zi) in zones {
+            if near > limit {
+                break;
+            }
+            self.consider(zi, ray, tmin, &mut limit, out, s);
+        }
+        out.is_some()
+    }
+
+    /// Order `zones` for [`Prepared::first_hit_in`]: each zone with a lower
+    /// bound of the distance at which rays leaving `eye` (perspective), or
+    /// rays along `dir` leaving the plane through `eye` normal to `dir`
+    /// (orthographic, `dir` unit), can enter its bounds.
+    pub fn by_distance(
+        &self,
+        zones: &[u32],
+        eye: DVec3,
+        parallel: Option<DVec3>,
+        out: &mut Vec<(f64, u32)>,
+    ) {
+        out.clear();
+        out.extend(
+            zones
+                .iter()
+                .map(|&zi| (self.entry_bound(zi, eye, parallel), zi)),
+        );
+        out.sort_unstable_by(by_entry);
+    }
+
+    /// The lower bound of where the rays of [`Prepared::by_distance`] can
+    /// enter zone `zi`'s bounds.
+    #[inline]
+    pub fn entry_bound(&self, zi: u32, eye: DVec3, parallel: Option<DVec3>) -> f64 {
+        entry_of(
+            &self.zones[zi as usize].bounds,
+            self.enclosure(zi),
+            eye,
+            parallel,
+        )
+    }
+
+    /// Test one zone for the first hit, keeping the best so far: the lowest
+    /// entry, ties to the lower region index.
+    #[inline]
+    fn consider(
+        &self,
+        zi: u32,
+        ray: &Ray,
+        tmin: f64,
+        limit: &mut f64,
+        best: &mut Hit,
+        s: &mut Scratch,
+    ) {
+        let z = &self.zones[zi as usize];
+        if hits(&z.bounds, ray, tmin, *limit).is_none() || !self.zone_spans(z, ray, tmin, *limit, s)
+        {
+            return;
+        }
+        let sp = s.cur[0];
+        let (t, inside) = if sp.a.t > tmin {
+            (sp.a.t, false)
+        } else {
+            (tmin, true)
+        };
+        // Any hit is better than none (region `u32::MAX`). At equal `t`
+        // the lower region wins, and within a region the lower zone (two
+        // zones of a region may be entered through the same surface): the
+        // hit is then the same in whatever order the zones are tried.
+        if t < best.t
+            || (t == best.t
+                && (z.region < best.region || (z.region == best.region && zi < best.zone)))
+        {
+            *best = Hit {
+                zone: zi,
+                t,
+                region: z.region,
+                bound: sp.a,
+                inside,
+            };
+            // Keep equal-t candidates reachable for the tie rule.
+            *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
+        }
+    }
+
+    /// True when an opaque region lies on the ray within `(tmin, tmax)`
+    /// (shadow rays: any hit will do), never looking at zone `skip` (see
+    /// [`Prepared::shadow_skip`]).
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        skip: Option<u32>,
+        s: &mut Scratch,
+    ) -> bool {
+        s.new_ray();
+        let unbounded = self.unbounded_opaque.iter().copied();
+        if self
+            .any_opaque(unbounded, skip, ray, tmin, tmax, s)
+            .is_some()
+        {
+            return true;
+        }
+        let mut limit = tmax;
+        let mut found = false;
+        self.leaves(&self.bvh_opaque, ray, tmin, &mut limit, s, |items, _, s| {
+            found = self
+                .any_opaque(items.iter().copied(), skip, ray, tmin, tmax, s)
+                .is_some();
+            found
+        });
+        found
+    }
+
+    /// The zone that a ray leaving `hit` toward the outside of its surface
+    /// (a shadow ray with `cos θ > 0`) cannot meet again, if any: the hit
+    /// zone itself when the surface belongs to one of its `+` bodies and
+    /// all of them are convex. Their intersection is convex, so the ray
+    /// leaves it for good, and `-` bodies only take material away.
+    pub fn shadow_skip(&self, hit: &Hit) -> Option<u32> {
+        let z = &self.zones[hit.zone as usize];
+        (!hit.inside && !hit.bound.flip() && z.convex).then_some(hit.zone)
+    }
+
+    /// As [`Prepared::occluded`], looking only at `zones` (from
+    /// [`Prepared::zones_in_box`] for a bundle of shadow rays): the same
+    /// answer for any ray of the bundle.
+    pub fn occluded_in(
+        &self,
+        zones: &[u32],
+        skip: Option<u32>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> bool {
+        s.new_ray();
+        self.any_opaque(zones.iter().copied(), skip, ray, tmin, tmax, s)
+            .is_some()
+    }
+
+    /// The first of `zones` (other than `skip`) found on the ray within
+    /// `(tmin, tmax)`. The body cache is the caller's: `s.new_ray()` first
+    /// for a new ray.
+    pub(crate) fn any_opaque(
+        &self,
+        zones: impl IntoIterator<Item = u32>,
+        skip: Option<u32>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> Option<u32> {
+        zones.into_iter().find(|&zi| {
+            let z = &self.zones[zi as usize];
+            Some(zi) != skip
+                && hits(&z.bounds, ray, tmin, tmax).is_some()
+                && self.zone_spans(z, ray, tmin, tmax, s)
+        })
+    }
+
+    /// Every region's stretches along the ray within `(tmin, tmax)`,
+    /// transparent regions included, sorted by entry then region.
+    pub fn partitions(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<Partition>,
+    ) {
+        s.new_ray();
+        out.clear();
+        let mut tagged = std::mem::take(&mut s.tagged);
+        tagged.clear();
+        let mut collect = |zi: u32, s: &mut Scratch| {
+            let z = &self.zones[zi as usize];
+            if hits(&z.bounds, ray, tmin, tmax).is_some() && self.zone_spans(z, ray, tmin, tmax, s)
+            {
+                tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
+            }
+        };
+        for &zi in &self.unbounded_all {
+            collect(zi, s);
+        }
+        let mut limit = tmax;
+        self.leaves(&self.bvh_all, ray, tmin, &mut limit, s, |items, _, s| {
+            for &zi in items {
+                collect(zi, s);
+            }
+            false
+        });
+        // Union the zones of each region.
+        tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
+        let mut i = 0;
+        while i < tagged.len() {
+            let r = tagged[i].0;
+            s.tmp.clear();
+            while i < tagged.len() && tagged[i].0 == r {
+                push_merged(&mut s.tmp, tagged[i].1, self.tol);
+                i += 1;
+            }
+            out.extend(s.tmp.iter().map(|sp| Partition {
+                region: r,
+                span: *sp,
+            }));
+        }
+        out.sort_by(|a, b| {
+            a.span
+                .a
+                .t
+                .total_cmp(&b.span.a.t)
+                .then(a.region.cmp(&b.region))
+        });
+        s.tagged = tagged;
+    }
+
+    /// Every surface crossing along the ray for `t > tmin`, in order: where
+    /// the ray enters and leaves each region, and through which body.
+    pub fn crossings(&self, ray: &Ray, tmin: f64, s: &mut Scratch) -> Vec<Crossing> {
+        let mut parts = Vec::new();
+        self.partitions(ray, tmin, f64::INFINITY, s, &mut parts);
+        let mut out = Vec::new();
+        for p in &parts {
+            for (b, entering) in [(p.span.a, true), (p.span.b, false)] {
+                if b.t.is_finite() && b.t > tmin {
+                    out.push(Crossing {
+                        t: b.t,
+                        entering,
+                        region: p.region,
+                        body: if b.body == u32::MAX {
+                            b.body
+                        } else {
+                            self.body_index(b.body) as u32
+                        },
+                        face: b.face(),
+                    });
+                }
+            }
+        }
+        out.sort_by(|a, b| {
+            a.t.total_cmp(&b.t)
+                .then(a.entering.cmp(&b.entering))
+                .then(a.region.cmp(&b.region))
+        });
+        out
+    }
+
+    /// Outward unit normal of the surface at a hit (reversed for a
+    /// subtracted body; facing the ray when it started inside).
+    #[inline(always)]
+    pub fn normal(&self, hit: &Hit, ray: &Ray) -> DVec3 {
+        if hit.inside || hit.bound.body == u32::MAX {
+            return -ray.dir;
+        }
+        let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face(), ray.at(hit.t));
+        if hit.bound.flip() {
+            -n
+        } else {
+            n
+        }
+    }
+}
+
+impl Prepared {
+    /// Every body surface the ray crosses for `t > tmin`, in order, and the
+    /// regions it is in after each crossing.
+    pub fn walk(&self, ray: &Ray, tmin: f64, s: &mut Scratch) -> Vec<Step> {
+        let mut steps = Vec::new();
+        let mut segs = Vec::new();
+        for (i, sh) in self.shapes.iter().enumerate() {
+            if self.body_bounds[i].ray_range(ray).is_none() {
+                continue;
+            }
+            segs.clear();
+            sh.shoot(ray, &mut segs);
+            for g in &segs {
+                for (t, face, entering) in [(g.t0, g.f0, true), (g.t1, g.f1, false)] {
+                    if t.is_finite() && t > tmin {
+                        steps.push(Step {
+                            t,
+                            body: self.body_index(i as u32) as u32,
+                            face,
+                            entering,
+                            regions_after: Vec::new(),
+                        });
+                    }
+                }
+            }
+        }
+        steps.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.body.cmp(&b.body)));
+        let mut parts = Vec::new();
+        self.partitions(ray, tmin, f64::INFINITY, s, &mut parts);
+        for i in 0..steps.len() {
+            let t = steps[i].t;
+            let next = steps.get(i + 1).map_or(t + 1.0, |n| n.t);
+            let probe = if next > t { 0.5 * (t + next) } else { t };
+            steps[i].regions_after = parts
+                .iter()
+                .filter(|p| p.span.a.t <= probe && probe < p.span.b.t)
+                .map(|p| p.region)
+                .collect();
+        }
+        steps
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::PrepareOptions;
+    use sv_geom::{Body, BodyKind, Geometry, Region};
+
+    #[test]
+    fn entry_bounds_are_never_past_where_a_ray_enters() {
+        // Overlapping spheres, one zone each, and boxes turned to the axes.
+        let mut g = Geometry::default();
+        let mut rnd = crate::test_numbers(7);
+        for i in 0..60 {
+            let (x, y, z) = (rnd() * 6.0, rnd() * 6.0, rnd() * 6.0);
+            let (kind, params) = if i % 3 == 0 {
+                let (a, b) = (rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0);
+                (BodyKind::Box, crate::turned_box([x, y, z], a, b))
+            } else {
+                (BodyKind::Sph, vec![x, y, z, 0.3 + rnd()])
+            };
+            g.bodies.push(Body::new(format!("b{i}"), kind, params));
+            g.regions.push(Region::of_body(format!("r{i}"), i));
+        }
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let mut s = Scratch::new(&p);
+        let zones: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut near = Vec::new();
+        let mut checked = 0;
+        for eye in [DVec3::new(-8.0, 3.0, 2.0), DVec3::new(3.0, 3.0, 3.0)] {
+            for parallel in [None, Some(DVec3::new(1.0, 0.2, 0.1).normalize())] {
+                p.by_distance(&zones, eye, parallel, &mut near);
+                for _ in 0..400 {
+                    let ray = match parallel {
+                        None => Ray::new(
+                            eye,
+                            DVec3::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0),
+                        ),
+                        // From the plane through the eye across `d`.
+                        Some(d) => {
+                            let (u, v) = sv_math::orthonormal_basis(d);
+                            let o = eye + u * (rnd() * 8.0 - 1.0) + v * (rnd() * 8.0 - 1.0);
+                            Ray::new(o, d)
+                        }
+                    };
+                    s.new_ray();
+                    for &(bound, zi) in &near {
+                        let z = &p.zones[zi as usize];
+                        if p.zone_spans(z, &ray, 0.0, f64::INFINITY, &mut s) {
+                            let t = s.cur[0].a.t.max(0.0);
+                            assert!(bound <= t, "zone {zi}: bound {bound} past entry {t}");
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "{checked} entries checked");
+    }
+}

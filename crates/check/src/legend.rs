@@ -7,6 +7,8 @@ use crate::colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 use crate::slice::Slice;
 
 /// Glyph rows, 5 pixels wide, `#` set.
+// Over the 120-line limit on purpose: this is the font, a table of one
+// seven-row picture per character, and reads best as one match.
 fn glyph(c: char) -> [&'static str; 7] {
     match c.to_ascii_uppercase() {
         ' ' => ["     "; 7],

@@ -166,6 +166,9 @@ impl View {
     }
 }
 
+/// The lowest and the highest of a coordinate.
+type Span = (f64, f64);
+
 /// Per pixel, row-major: 0 nothing, `r + 1` region `r`, [`Slice::OVERLAP`]
 /// or [`Slice::VOID`]; and the pixels of every overlapping pair.
 type Classes = (Vec<u32>, BTreeMap<(u32, u32), u64>);
@@ -296,10 +299,7 @@ fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
 /// The ranges along `u` and `v` of the model's box projected on the
 /// plane (the plane's origin when there is no finite box and the extent
 /// is given).
-fn projected_bounds(
-    model: &Model,
-    opts: &SliceOptions,
-) -> Result<((f64, f64), (f64, f64)), CheckError> {
+fn projected_bounds(model: &Model, opts: &SliceOptions) -> Result<(Span, Span), CheckError> {
     let plane = opts.plane;
     let bounds = match (model.finite_bounds(), opts.extent) {
         (Ok(b), _) => b,

@@ -101,65 +101,66 @@ impl VolumeReport {
 
     /// The report as a table.
     pub fn to_table(&self) -> String {
-        let u = &self.unit;
-        let mut s = String::new();
+        let unit = &self.unit;
+        let mut text = String::new();
         let _ = writeln!(
-            s,
+            text,
             "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}",
             "region",
-            format!("volume {u}³"),
+            format!("volume {unit}³"),
             "± (1σ)",
             "rel",
             "centroid (x, y, z)",
             "mass g"
         );
-        for r in &self.regions {
-            let c = r.centroid.map_or("-".to_string(), |c| {
+        for region in &self.regions {
+            let centroid = region.centroid.map_or("-".to_string(), |c| {
                 format!("({}, {}, {})", fmt_g(c[0]), fmt_g(c[1]), fmt_g(c[2]))
             });
-            let m = match (r.mass_g, r.mass_error_g) {
-                (Some(m), Some(e)) => format!("{} ± {}", fmt_g(m), fmt_g(e)),
+            let mass = match (region.mass_g, region.mass_error_g) {
+                (Some(mass), Some(error)) => format!("{} ± {}", fmt_g(mass), fmt_g(error)),
                 _ => "-".into(),
             };
-            let flag = match (r.converged, r.clipped) {
+            let flag = match (region.converged, region.clipped) {
                 (true, false) => "",
                 (true, true) => "  (clipped to the box)",
                 (false, false) => "  (not converged)",
                 (false, true) => "  (not converged; clipped to the box)",
             };
+            let rel_error = if region.rel_error.is_finite() {
+                format!("{:.2e}", region.rel_error)
+            } else {
+                "-".into()
+            };
             let _ = writeln!(
-                s,
+                text,
                 "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}{flag}",
-                r.region,
-                fmt_g(r.volume),
-                fmt_g(r.error),
-                if r.rel_error.is_finite() {
-                    format!("{:.2e}", r.rel_error)
-                } else {
-                    "-".into()
-                },
-                c,
-                m
+                region.region,
+                fmt_g(region.volume),
+                fmt_g(region.error),
+                rel_error,
+                centroid,
+                mass
             );
         }
         let _ = writeln!(
-            s,
+            text,
             "{} rays in {:.2} s; target relative error {}",
             self.rays,
             self.seconds,
             fmt_g(self.rel_error_target)
         );
         if self.not_converged.is_empty() {
-            let _ = writeln!(s, "every region converged");
+            let _ = writeln!(text, "every region converged");
         } else {
             let _ = writeln!(
-                s,
+                text,
                 "did not converge ({}): {}",
                 self.not_converged.len(),
                 self.not_converged.join(", ")
             );
         }
-        s
+        text
     }
 }
 

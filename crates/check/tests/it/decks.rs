@@ -11,7 +11,11 @@ use sv_formats::{load_file, LoadOptions};
 fn deck(rel: &str) -> Option<PathBuf> {
     let (folder, file) = rel.rsplit_once('/').expect("a path folder/file");
     let path = sv_testdata::shared_decks(folder)?.join(file);
-    assert!(path.is_file(), "the shared deck {} is missing", path.display());
+    assert!(
+        path.is_file(),
+        "the shared deck {} is missing",
+        path.display()
+    );
     Some(path)
 }
 

@@ -277,7 +277,10 @@ fn a_cameras_picture_is_painted_where_it_sees_an_overlap() {
     let mut rgb = vec![[0.25f32; 3]; 81];
     let mut alpha = vec![0.0f32; 81];
     seen.paint(&mut rgb, &mut alpha);
-    assert_eq!((rgb[centre], alpha[centre]), (sv_check::OVERLAP_COLOUR, 1.0));
+    assert_eq!(
+        (rgb[centre], alpha[centre]),
+        (sv_check::OVERLAP_COLOUR, 1.0)
+    );
     assert_eq!((rgb[0], alpha[0]), ([0.25; 3], 0.0));
     let pixels = seen.mask.iter().filter(|m| **m).count();
     assert_eq!(

@@ -21,7 +21,7 @@ use crossbeam_utils::CachePadded;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use sv_geom::{
+use sv_trace::{
     by_entry, Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared,
     Scratch, Seen, Tile, Warning,
 };

@@ -43,7 +43,7 @@ pub fn info(args: InfoArgs) -> Result<ExitCode, CliError> {
         zones,
         transparent
     );
-    let (prepared, warnings) = sv_geom::Prepared::new(geometry, &Default::default())
+    let (prepared, warnings) = sv_trace::Prepared::new(geometry, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
     for warning in warnings {
         println!("warning: {warning}");

@@ -7,8 +7,8 @@ use crate::parse::parse_vec3;
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use sv_geom::Scratch;
 use sv_math::Ray;
+use sv_trace::Scratch;
 
 #[derive(Args, Debug)]
 pub struct ShootArgs {
@@ -33,7 +33,7 @@ pub fn shoot(args: ShootArgs) -> Result<ExitCode, CliError> {
         return Err(bad_input("--dir must not be zero"));
     }
     let geometry = &scene.geometry;
-    let (prepared, _) = sv_geom::Prepared::new(geometry, &Default::default())
+    let (prepared, _) = sv_trace::Prepared::new(geometry, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
     let mut scratch = Scratch::new(&prepared);
     let region_name = |region: usize| geometry.regions[region].name.clone();

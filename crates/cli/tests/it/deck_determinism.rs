@@ -4,9 +4,9 @@
 
 use std::path::PathBuf;
 use sv_formats::{load_file, LoadOptions};
-use sv_geom::PrepareOptions;
 use sv_render::{Frame, Renderer, Settings};
 use sv_scene::{Light, LightKind};
+use sv_trace::PrepareOptions;
 
 /// The shared COMGEOM decks and FLUKA test inputs; `None` only when they
 /// are missing and `SV_SKIP_SHARED=1` is set.

@@ -1,7 +1,8 @@
 use super::poly::roots_in;
+use super::SegLanes;
 use super::{segments_by_classification, Seg};
-use crate::packet::{dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use sv_math::lanes::{dot, mat_vec, normalize, not, sub_point, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// Face numbers of cones.
@@ -92,7 +93,7 @@ impl Cone {
 
     /// Corners of the parallelograms around its two end ellipses: their
     /// hull holds the cone.
-    pub(crate) fn corners(&self) -> Vec<DVec3> {
+    pub fn corners(&self) -> Vec<DVec3> {
         let (a, b, h) = (self.f.m.x_axis, self.f.m.y_axis, self.f.m.z_axis);
         let r = 1.0 + self.k;
         super::ends((self.f.v, a, b), (self.f.v + h, a * r, b * r))
@@ -124,7 +125,7 @@ impl Cone {
     /// between base and top, then [`Cone::lateral`]'s cases, each lane
     /// taking the one its ray takes.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
         let d = mat_vec(s, &self.f.inv, r.d);
         let (zero, one) = (s.splat(0.0), s.splat(1.0));
@@ -310,7 +311,7 @@ impl Cone {
     /// [`Cone::normal`] in every lane (faces held as `f64`), operation for
     /// operation: each lane takes its face's gradient.
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
         let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
         let k = self.k;
         let z = s.mul(s.splat(-k), s.add(s.splat(1.0), s.mul(s.splat(k), q[2])));

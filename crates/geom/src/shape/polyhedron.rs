@@ -1,6 +1,7 @@
 use super::Seg;
-use crate::packet::{dot, splat3, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use sv_math::lanes::{dot, splat3, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A plane `n·x = d`; the inside is `n·x <= d`.
@@ -68,7 +69,7 @@ impl Polyhedron {
     /// [`Polyhedron::shoot`] in every lane, operation for operation (a lane
     /// that the scalar code would leave early stays missed).
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let zero = s.splat(0.0);
         let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
         let (mut f0, mut f1) = (zero, zero);
@@ -104,7 +105,7 @@ impl Polyhedron {
     /// can only add points, never drop a corner). `None` for a polyhedron
     /// with infinite bounds, with too many planes to try every triple, or
     /// whose corners do not pass the checks below.
-    pub(crate) fn corners(&self, eps: f64) -> Option<Vec<DVec3>> {
+    pub fn corners(&self, eps: f64) -> Option<Vec<DVec3>> {
         let n = self.planes.len();
         if !self.bounds.is_finite() || n > 12 {
             return None;
@@ -149,7 +150,7 @@ impl Polyhedron {
 
     /// [`Polyhedron::normal`] in every lane (faces held as `f64`).
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
         let mut n = [s.splat(0.0); 3];
         for (i, pl) in self.planes.iter().enumerate() {
             let here = s.eq(face, s.splat(i as f64));

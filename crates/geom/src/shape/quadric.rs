@@ -1,6 +1,7 @@
+use super::SegLanes;
 use super::{quadratic, Seg};
-use crate::packet::{along, dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use sv_math::lanes::{along, dot, mat_vec, normalize, not, sub_point, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// An ellipsoid: the image of the unit sphere under `x = c + M u`.
@@ -27,7 +28,7 @@ impl Ellipsoid {
 
     /// Corners of the parallelepiped spanned by its semi-axes: their hull
     /// holds the ellipsoid.
-    pub(crate) fn corners(&self) -> Vec<DVec3> {
+    pub fn corners(&self) -> Vec<DVec3> {
         let (a, b, h) = (self.m.x_axis, self.m.y_axis, self.m.z_axis);
         super::ends((self.c - h, a, b), (self.c + h, a, b))
     }
@@ -61,7 +62,7 @@ impl Ellipsoid {
 
     /// [`Ellipsoid::shoot`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let o = mat_vec(s, &self.inv, sub_point(s, r.o, self.c));
         let d = mat_vec(s, &self.inv, r.d);
         let dd = dot(s, d, d);
@@ -86,7 +87,7 @@ impl Ellipsoid {
 
     /// [`Ellipsoid::normal`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
         let q = mat_vec(s, &self.inv, sub_point(s, p, self.c));
         normalize(s, mat_vec(s, &self.inv_t, q))
     }

@@ -1,6 +1,7 @@
 use super::Seg;
-use crate::packet::{not, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use sv_math::lanes::{not, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// An axis-aligned box (RPP), cast by the slab method with the faces
@@ -43,7 +44,7 @@ impl Rpp {
     /// [`Rpp::shoot`] in every lane, operation for operation: each axis's
     /// [`Clip::slab`], with the faces held as `f64`.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let zero = s.splat(0.0);
         let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
         let (mut f0, mut f1) = (zero, zero);
@@ -84,7 +85,7 @@ impl Rpp {
 
     /// [`Rpp::normal`] in every lane (faces held as `f64`).
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
         [
             unit_axis(s, face, 0.0),
             unit_axis(s, face, 1.0),

@@ -1,6 +1,7 @@
 use super::Seg;
-use crate::packet::{back, dot, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use sv_math::lanes::{back, dot, normalize, not, sub_point, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A sphere.
@@ -50,7 +51,7 @@ impl Sphere {
 
     /// [`Sphere::shoot`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let oc = sub_point(s, r.o, self.c);
         let b = dot(s, oc, r.d);
         let f = back(s, oc, r.d, b);
@@ -73,7 +74,7 @@ impl Sphere {
 
     /// [`Sphere::normal`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
         let q = sub_point(s, p, self.c);
         let r = s.splat(self.inv_r);
         normalize(s, [s.mul(q[0], r), s.mul(q[1], r), s.mul(q[2], r)])

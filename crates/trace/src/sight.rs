@@ -180,7 +180,8 @@ pub(crate) fn rect_of(b: &Aabb, t: Tighter<'_>, gen: &RayGen) -> Seen {
 
 #[cfg(test)]
 mod tests {
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Seen, Term, Zone};
+    use crate::{PrepareOptions, Prepared, Seen};
+    use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
     use sv_math::{DVec3, RayGen};
 
     #[test]

@@ -866,7 +866,8 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, PrepareOptions, Region};
+    use crate::PrepareOptions;
+    use sv_geom::{Body, BodyKind, Geometry, Region};
 
     /// A grid of spheres, each its own region, on a much larger ground
     /// slab (region 0).

@@ -1,12 +1,13 @@
 //! Primary rays: a tile's rays traced in packets through its sorted list
 //! of zones, or through the hierarchy when the tile is crowded.
 
-use super::{dot, lane_rays, slab_lanes, splat3, Best, Lanes, MAX_LANES};
+use super::{lane_rays, Best};
 use crate::bvh::{Child, WideNode, STACK, WIDTH};
 use crate::prepare::Prepared;
-use crate::simd::Simd;
 use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
+use sv_math::lanes::{dot, slab_lanes, splat3, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray, RayGen};
 
 /// A tile of a raster: the pixels of columns `x0..x1` and rows `y0..y1`.

@@ -6,8 +6,9 @@
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use sv_geom::shape::{Seg, Shape};
-use sv_geom::{Body, BodyKind, Geometry, PrepareOptions, Prepared, Region};
+use sv_geom::{Body, BodyKind, Geometry, Region};
 use sv_math::{DAffine3, DQuat, DVec3, Ray};
+use sv_trace::{PrepareOptions, Prepared};
 
 /// One body of every type, with awkward orientations.
 pub fn samples() -> Vec<Body> {
@@ -382,6 +383,6 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
         "only face 2376 holds the bent vertex 7 off its plane: {warnings:?}"
     );
     let r = Ray::new(DVec3::new(-216.0, -167.0, 100.0), -DVec3::Z);
-    let mut s = sv_geom::Scratch::new(&prep);
+    let mut s = sv_trace::Scratch::new(&prep);
     assert!(prep.first_hit(&r, 0.0, f64::INFINITY, &mut s).is_some());
 }

@@ -1,10 +1,11 @@
 //! Shadow rays toward a parallel light, in packets.
 
-use super::{box_lanes, dot, splat3, Lanes, Spill, MAX_LANES};
+use super::Spill;
 use crate::lightbuf::{Grid, LightBuffer, Place};
 use crate::prepare::{PZone, Prepared};
-use crate::simd::Simd;
 use crate::trace::Scratch;
+use sv_math::lanes::{box_lanes, dot, splat3, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
 
 impl Prepared {

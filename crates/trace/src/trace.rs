@@ -1,11 +1,11 @@
 //! Ray queries: the first opaque region hit (front to back, lazily), any
 //! hit (shadows), and the full list of region partitions along a ray.
 
-use crate::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
 use crate::prepare::{PZone, Prepared, Tighter};
-use crate::shape::Seg;
 use crate::sight::{entry_of, rect_of};
+use sv_geom::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound, Span};
+use sv_geom::shape::Seg;
 use sv_math::{Aabb, DVec3, Ray, RayGen};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
@@ -969,7 +969,8 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+    use crate::PrepareOptions;
+    use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
 
     #[test]
     fn convex_zones_held_in_hand_give_the_spans_of_the_lists() {

@@ -62,7 +62,7 @@ pub struct UniverseInfo {
     pub description: String,
 }
 
-/// The result of [`check`].
+/// The result of [`check`](crate::check()).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Report {
     /// Model unit (`in`, `mm`, …).
@@ -82,7 +82,7 @@ pub struct Report {
     /// The universe, if voids were looked for.
     pub universe: Option<UniverseInfo>,
     /// Overlapping pairs, most severe (largest total length) first. Pairs
-    /// with an air region are here only with [`CheckOptions::strict_air`].
+    /// with an air region are here only with [`CheckOptions::strict_air`](crate::CheckOptions::strict_air).
     pub overlaps: Vec<Overlap>,
     /// Overlapping pairs in which at least one region is air, when they are
     /// not counted as problems.

@@ -93,19 +93,20 @@ impl<'a> RayCheck<'a> {
         self.findings.clear();
         self.partitions(ray, tmin, tmax);
         let parts = &self.parts;
-        for (i, p) in parts.iter().enumerate() {
-            for q in &parts[i + 1..] {
-                if q.span.a.t >= p.span.b.t {
+        for (index, part) in parts.iter().enumerate() {
+            for later in &parts[index + 1..] {
+                if later.span.a.t >= part.span.b.t {
                     break;
                 }
-                if q.region == p.region {
+                if later.region == part.region {
                     continue;
                 }
-                let (lo, hi) = (q.span.a.t, p.span.b.t.min(q.span.b.t));
+                let (lo, hi) = (later.span.a.t, part.span.b.t.min(later.span.b.t));
                 if hi - lo > tol {
-                    let (r1, r2) = (p.region.min(q.region), p.region.max(q.region));
+                    let first = part.region.min(later.region);
+                    let second = part.region.max(later.region);
                     self.findings.push(Finding {
-                        kind: FindingKind::Overlap(r1, r2),
+                        kind: FindingKind::Overlap(first, second),
                         t0: lo,
                         t1: hi,
                     });
@@ -118,11 +119,11 @@ impl<'a> RayCheck<'a> {
         self.hull.clear();
         match hull {
             Hull::Everywhere => self.hull.push((tmin, tmax)),
-            Hull::Prepared(h) => {
-                let hs = self.hs.as_mut().expect("hull scratch");
-                h.partitions(ray, tmin, tmax, hs, &mut self.hull_parts);
-                for p in &self.hull_parts {
-                    let (a, b) = (p.span.a.t.max(tmin), p.span.b.t.min(tmax));
+            Hull::Prepared(hull) => {
+                let scratch = self.hs.as_mut().expect("hull scratch");
+                hull.partitions(ray, tmin, tmax, scratch, &mut self.hull_parts);
+                for part in &self.hull_parts {
+                    let (a, b) = (part.span.a.t.max(tmin), part.span.b.t.min(tmax));
                     if b > a {
                         merge_into(&mut self.hull, a, b);
                     }
@@ -130,15 +131,20 @@ impl<'a> RayCheck<'a> {
             }
         }
         self.cover.clear();
-        for p in &self.parts {
-            merge_into(&mut self.cover, p.span.a.t, p.span.b.t);
+        for part in &self.parts {
+            merge_into(&mut self.cover, part.span.a.t, part.span.b.t);
         }
-        // Voids: hull minus cover.
-        for hi in 0..self.hull.len() {
-            let (h0, h1) = self.hull[hi];
+        self.find_voids(tol);
+        self.find_outside(tol);
+    }
+
+    /// Voids: the hull's stretches that no region covers.
+    fn find_voids(&mut self, tol: f64) {
+        for hull_index in 0..self.hull.len() {
+            let (h0, h1) = self.hull[hull_index];
             let mut at = h0;
-            for ci in 0..self.cover.len() {
-                let (c0, c1) = self.cover[ci];
+            for cover_index in 0..self.cover.len() {
+                let (c0, c1) = self.cover[cover_index];
                 if c1 <= at {
                     continue;
                 }
@@ -157,9 +163,12 @@ impl<'a> RayCheck<'a> {
                 self.void(at, h1);
             }
         }
-        // Space claimed outside the hull.
-        for p in &self.parts {
-            let (a, b) = (p.span.a.t, p.span.b.t);
+    }
+
+    /// Space claimed outside the hull.
+    fn find_outside(&mut self, tol: f64) {
+        for part in &self.parts {
+            let (a, b) = (part.span.a.t, part.span.b.t);
             let mut at = a;
             for &(h0, h1) in &self.hull {
                 if h1 <= at {
@@ -170,7 +179,7 @@ impl<'a> RayCheck<'a> {
                 }
                 if h0 - at > tol {
                     self.findings.push(Finding {
-                        kind: FindingKind::Outside(p.region),
+                        kind: FindingKind::Outside(part.region),
                         t0: at,
                         t1: h0,
                     });
@@ -182,7 +191,7 @@ impl<'a> RayCheck<'a> {
             }
             if b - at > tol {
                 self.findings.push(Finding {
-                    kind: FindingKind::Outside(p.region),
+                    kind: FindingKind::Outside(part.region),
                     t0: at,
                     t1: b,
                 });

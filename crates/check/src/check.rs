@@ -2,13 +2,12 @@
 
 use crate::analyse::{FindingKind, RayCheck};
 use crate::model::{CheckError, Model};
+use crate::report::{fmt_g, Outside, Overlap, Problem, Report, UniverseInfo, Void};
 use crate::rng::uniform;
 use rayon::prelude::*;
-use serde::Serialize;
 use std::collections::HashMap;
-use std::fmt::Write as _;
 use std::time::Instant;
-use sv_math::{DVec3, Ray};
+use sv_math::{Aabb, DVec3, Ray};
 
 /// Options for [`check`].
 #[derive(Clone, Debug)]
@@ -55,268 +54,6 @@ impl Default for CheckOptions {
             strict_air: false,
             bounds: None,
         }
-    }
-}
-
-/// How much of a problem was seen.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Problem {
-    /// Sum of the problem stretches over every ray (model units).
-    pub total_length: f64,
-    /// The longest single stretch.
-    pub max_length: f64,
-    /// Midpoint of the longest stretch: a point inside the problem.
-    pub point: [f64; 3],
-    /// Number of stretches seen.
-    pub hits: u64,
-    /// Volume estimate from the grid rays (units³): the summed length times
-    /// the area each grid ray stands for, averaged over the three axes.
-    pub volume: f64,
-}
-
-/// Two regions claiming the same space.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Overlap {
-    /// Their names.
-    pub regions: [String; 2],
-    /// Their indices (0-based, deck order).
-    pub region_indices: [usize; 2],
-    /// True when at least one of them is an air region.
-    pub air: bool,
-    /// How much.
-    #[serde(flatten)]
-    pub problem: Problem,
-}
-
-/// Space inside the universe that no region claims.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Void {
-    /// The regions met on either side of the gap along the rays (`None`:
-    /// the boundary of the universe's hull).
-    pub between: [Option<String>; 2],
-    /// How much.
-    #[serde(flatten)]
-    pub problem: Problem,
-}
-
-/// A region reaching outside the universe's hull.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Outside {
-    /// The region.
-    pub region: String,
-    /// How much.
-    #[serde(flatten)]
-    pub problem: Problem,
-}
-
-/// The universe a check used.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct UniverseInfo {
-    /// What it is and how it was chosen.
-    pub description: String,
-}
-
-/// The result of [`check`].
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Report {
-    /// Model unit (`in`, `mm`, …).
-    pub unit: String,
-    /// Number of regions.
-    pub regions: usize,
-    /// The box the rays cross: lower and upper corners.
-    pub bounds: [[f64; 3]; 2],
-    /// Grid spacing used.
-    pub spacing: f64,
-    /// Grid rays fired (all three axes).
-    pub grid_rays: u64,
-    /// Random rays fired.
-    pub random_rays: u64,
-    /// Tolerance used.
-    pub tolerance: f64,
-    /// The universe, if voids were looked for.
-    pub universe: Option<UniverseInfo>,
-    /// Overlapping pairs, most severe (largest total length) first. Pairs
-    /// with an air region are here only with [`CheckOptions::strict_air`].
-    pub overlaps: Vec<Overlap>,
-    /// Overlapping pairs in which at least one region is air, when they are
-    /// not counted as problems.
-    pub air_overlaps: Vec<Overlap>,
-    /// Voids, largest first.
-    pub voids: Vec<Void>,
-    /// Regions outside the universe, largest first.
-    pub outside: Vec<Outside>,
-    /// Regions no ray crossed: empty (subtracted away entirely) or thinner
-    /// than the spacing. Listed for information; not counted as problems.
-    pub unseen: Vec<String>,
-    /// Wall-clock time of the ray casting, seconds.
-    pub seconds: f64,
-}
-
-impl Report {
-    /// True when nothing was found.
-    pub fn is_clean(&self) -> bool {
-        self.overlaps.is_empty() && self.voids.is_empty() && self.outside.is_empty()
-    }
-
-    /// The report as pretty JSON.
-    pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("a report serialises")
-    }
-
-    /// The report as a human-readable table.
-    pub fn to_table(&self) -> String {
-        let u = &self.unit;
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "checked {} regions with {} grid rays (spacing {} {u}) and {} random rays in {:.2} s; tolerance {} {u}",
-            self.regions,
-            self.grid_rays,
-            fmt_g(self.spacing),
-            self.random_rays,
-            self.seconds,
-            fmt_g(self.tolerance)
-        );
-        let b = &self.bounds;
-        let _ = writeln!(
-            s,
-            "box ({}, {}, {}) to ({}, {}, {})",
-            fmt_g(b[0][0]),
-            fmt_g(b[0][1]),
-            fmt_g(b[0][2]),
-            fmt_g(b[1][0]),
-            fmt_g(b[1][1]),
-            fmt_g(b[1][2])
-        );
-        match &self.universe {
-            Some(un) => {
-                let _ = writeln!(s, "universe: {}", un.description);
-            }
-            None => {
-                let _ = writeln!(
-                    s,
-                    "universe: none (voids not looked for; give --universe REGION|BODY)"
-                );
-            }
-        }
-        let header = |s: &mut String, first: &str| {
-            let _ = writeln!(
-                s,
-                "  {:<32} {:>12} {:>12} {:>12} {:>7}  point (x, y, z)",
-                first, "total len", "max len", "volume", "hits"
-            );
-        };
-        // Coordinates within rounding of zero print as 0.
-        let diag = (0..3)
-            .map(|k| (self.bounds[1][k] - self.bounds[0][k]).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        let coord = |v: f64| fmt_g(if v.abs() < 1e-12 * diag { 0.0 } else { v });
-        let row = |s: &mut String, name: String, p: &Problem| {
-            let _ = writeln!(
-                s,
-                "  {:<32} {:>12} {:>12} {:>12} {:>7}  ({}, {}, {})",
-                name,
-                fmt_g(p.total_length),
-                fmt_g(p.max_length),
-                fmt_g(p.volume),
-                p.hits,
-                coord(p.point[0]),
-                coord(p.point[1]),
-                coord(p.point[2])
-            );
-        };
-        if self.overlaps.is_empty() {
-            let _ = writeln!(s, "no overlaps");
-        } else {
-            let _ = writeln!(s, "{} overlapping pairs:", self.overlaps.len());
-            header(&mut s, "regions");
-            for o in &self.overlaps {
-                row(
-                    &mut s,
-                    format!("{} × {}", o.regions[0], o.regions[1]),
-                    &o.problem,
-                );
-            }
-        }
-        if !self.air_overlaps.is_empty() {
-            let _ = writeln!(
-                s,
-                "{} overlapping pairs with air regions (not counted: air gives way to solids, as in GIFT and BRL-CAD; --strict-air counts them):",
-                self.air_overlaps.len()
-            );
-            header(&mut s, "regions");
-            for o in &self.air_overlaps {
-                row(
-                    &mut s,
-                    format!("{} × {}", o.regions[0], o.regions[1]),
-                    &o.problem,
-                );
-            }
-        }
-        if self.universe.is_some() {
-            if self.voids.is_empty() {
-                let _ = writeln!(s, "no voids");
-            } else {
-                let _ = writeln!(s, "{} voids:", self.voids.len());
-                header(&mut s, "between");
-                for v in &self.voids {
-                    let n = |x: &Option<String>| x.clone().unwrap_or_else(|| "(universe)".into());
-                    row(
-                        &mut s,
-                        format!("{} | {}", n(&v.between[0]), n(&v.between[1])),
-                        &v.problem,
-                    );
-                }
-            }
-            if !self.outside.is_empty() {
-                let _ = writeln!(
-                    s,
-                    "{} regions reach outside the universe:",
-                    self.outside.len()
-                );
-                header(&mut s, "region");
-                for o in &self.outside {
-                    row(&mut s, o.region.clone(), &o.problem);
-                }
-            }
-        }
-        if !self.unseen.is_empty() {
-            let _ = writeln!(
-                s,
-                "{} regions met by no ray (empty, or thinner than the spacing): {}",
-                self.unseen.len(),
-                self.unseen.join(", ")
-            );
-        }
-        let _ = writeln!(
-            s,
-            "{}",
-            if self.is_clean() {
-                "clean"
-            } else {
-                "problems found"
-            }
-        );
-        s
-    }
-}
-
-/// A number in a compact form (up to 6 significant digits).
-pub(crate) fn fmt_g(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let a = v.abs();
-    if !(1e-4..1e7).contains(&a) {
-        return format!("{v:.4e}");
-    }
-    let digits = (5 - a.log10().floor() as i32).clamp(0, 10) as usize;
-    let s = format!("{v:.digits$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
     }
 }
 
@@ -429,24 +166,64 @@ fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)
 /// rayon pool.
 pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let start = Instant::now();
-    let bx = match opts.bounds {
-        Some(b) if !b.is_empty() && b.is_finite() && b.size().min_element() >= 0.0 => b,
-        Some(_) => {
-            return Err(CheckError::Option(
-                "the box must have finite corners, lower before upper".into(),
-            ))
-        }
-        None => model.finite_bounds()?,
-    };
-    let size = bx.size();
-    let longest = size.max_element();
-    let spacing = match opts.spacing {
-        Some(d) if d > 0.0 && d.is_finite() => d,
-        Some(d) => {
+    let checked_box = checked_box(model, opts)?;
+    let spacing = grid_spacing(checked_box.size(), opts)?;
+    let tolerance = match opts.tolerance {
+        Some(t) if t >= 0.0 && t.is_finite() => t,
+        Some(t) => {
             return Err(CheckError::Option(format!(
-                "the spacing must be positive, found {d}"
+                "the tolerance must be zero or more, found {t}"
             )))
         }
+        // 1e-5 of the diagonal of the box checked.
+        None => (1e-5 * checked_box.size().length()).max(1e-12),
+    };
+    check_ray_counts(checked_box.size(), spacing, opts)?;
+    let grid = Grid::new(checked_box.min, checked_box.max, spacing);
+    let (findings, seen) = fire_rays(model, &grid, &checked_box, opts, tolerance);
+    let sorted = sort_findings(model, findings, opts.strict_air);
+    Ok(Report {
+        unit: model.unit.clone(),
+        regions: model.names.len(),
+        bounds: [checked_box.min.to_array(), checked_box.max.to_array()],
+        spacing,
+        grid_rays: grid.total(),
+        random_rays: opts.random,
+        tolerance,
+        universe: model
+            .universe_note
+            .clone()
+            .map(|description| UniverseInfo { description }),
+        overlaps: sorted.overlaps,
+        air_overlaps: sorted.air_overlaps,
+        voids: sorted.voids,
+        outside: sorted.outside,
+        unseen: (0..model.names.len())
+            .filter(|&region| !seen[region])
+            .map(|region| model.names[region].clone())
+            .collect(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The box the rays cross: the one asked for, or the model's bounds.
+fn checked_box(model: &Model, opts: &CheckOptions) -> Result<Aabb, CheckError> {
+    match opts.bounds {
+        Some(b) if !b.is_empty() && b.is_finite() && b.size().min_element() >= 0.0 => Ok(b),
+        Some(_) => Err(CheckError::Option(
+            "the box must have finite corners, lower before upper".into(),
+        )),
+        None => model.finite_bounds(),
+    }
+}
+
+/// The distance between grid rays across a box of `size`.
+fn grid_spacing(size: DVec3, opts: &CheckOptions) -> Result<f64, CheckError> {
+    match opts.spacing {
+        Some(d) if d > 0.0 && d.is_finite() => Ok(d),
+        Some(d) => Err(CheckError::Option(format!(
+            "the spacing must be positive, found {d}"
+        ))),
         None => {
             if opts.rays_per_side == 0 {
                 return Err(CheckError::Option(
@@ -456,31 +233,26 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
             // As many rays as a cube with `rays_per_side` per side gets:
             // Σ face areas / d² = 3 n².
             let areas = size.x * size.y + size.y * size.z + size.z * size.x;
-            let n = opts.rays_per_side as f64;
-            if areas > 0.0 {
-                (areas / (3.0 * n * n)).sqrt()
+            let per_side = opts.rays_per_side as f64;
+            let longest = size.max_element();
+            Ok(if areas > 0.0 {
+                (areas / (3.0 * per_side * per_side)).sqrt()
             } else if longest > 0.0 {
-                longest / n
+                longest / per_side
             } else {
                 1.0
-            }
+            })
         }
-    };
-    let tol = match opts.tolerance {
-        Some(t) if t >= 0.0 && t.is_finite() => t,
-        Some(t) => {
-            return Err(CheckError::Option(format!(
-                "the tolerance must be zero or more, found {t}"
-            )))
-        }
-        // 1e-5 of the diagonal of the box checked.
-        None => (1e-5 * bx.size().length()).max(1e-12),
-    };
-    // Count before allocating anything.
-    let mut count = 0f64;
-    for k in 0..3 {
-        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-        count += cells(size[u], spacing).max(1.0) * cells(size[v], spacing).max(1.0);
+    }
+}
+
+/// Refuse more grid or random rays than [`CheckOptions::max_rays`], counted
+/// before anything is allocated.
+fn check_ray_counts(size: DVec3, spacing: f64, opts: &CheckOptions) -> Result<(), CheckError> {
+    let mut grid_rays = 0f64;
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        grid_rays += cells(size[u], spacing).max(1.0) * cells(size[v], spacing).max(1.0);
     }
     if opts.random > opts.max_rays {
         return Err(CheckError::Option(format!(
@@ -488,130 +260,144 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
             opts.random, opts.max_rays
         )));
     }
-    if count > opts.max_rays as f64 {
+    if grid_rays > opts.max_rays as f64 {
         return Err(CheckError::Option(format!(
-            "a spacing of {} gives {count:.0} grid rays, more than the limit of {}; use a larger spacing",
+            "a spacing of {} gives {grid_rays:.0} grid rays, more than the limit of {}; use a larger spacing",
             fmt_g(spacing),
             opts.max_rays
         )));
     }
-    let grid = Grid::new(bx.min, bx.max, spacing);
-    let n_grid = grid.total();
-    let n = n_grid + opts.random;
+    Ok(())
+}
+
+/// Fire the grid and the random rays in chunks on the rayon pool: every
+/// kind of finding with its stretches summed, and which regions any ray
+/// met. Chunks are merged in order, so the sums do not depend on the
+/// number of threads.
+fn fire_rays(
+    model: &Model,
+    grid: &Grid,
+    checked_box: &Aabb,
+    opts: &CheckOptions,
+    tolerance: f64,
+) -> (HashMap<FindingKind, Acc>, Vec<bool>) {
     const CHUNK: u64 = 256;
-    let chunks = n.div_ceil(CHUNK);
-    let nreg = model.names.len();
-    let parts: Vec<(HashMap<FindingKind, Acc>, Vec<bool>)> = (0..chunks)
+    let grid_rays = grid.total();
+    let all_rays = grid_rays + opts.random;
+    let region_count = model.names.len();
+    let chunks: Vec<(HashMap<FindingKind, Acc>, Vec<bool>)> = (0..all_rays.div_ceil(CHUNK))
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),
-            |rc, c| {
-                let mut acc: HashMap<FindingKind, Acc> = HashMap::new();
-                let mut seen = vec![false; nreg];
-                for idx in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    let (ray, t0, t1, area) = if idx < n_grid {
-                        let (r, t1, a) = grid.ray(idx);
-                        (r, 0.0, t1, a)
+            |ray_check, chunk| {
+                let mut found: HashMap<FindingKind, Acc> = HashMap::new();
+                let mut seen = vec![false; region_count];
+                for index in chunk * CHUNK..((chunk + 1) * CHUNK).min(all_rays) {
+                    let (ray, t0, t1, area) = if index < grid_rays {
+                        let (ray, t1, area) = grid.ray(index);
+                        (ray, 0.0, t1, area)
                     } else {
-                        match random_ray(bx.min, bx.max, opts.seed, idx - n_grid) {
-                            Some((r, a, b)) => (r, a, b, 0.0),
+                        let random_index = index - grid_rays;
+                        match random_ray(checked_box.min, checked_box.max, opts.seed, random_index)
+                        {
+                            Some((ray, t0, t1)) => (ray, t0, t1, 0.0),
                             None => continue,
                         }
                     };
-                    rc.run(&ray, t0, t1, tol);
-                    for p in &rc.parts {
-                        seen[p.region as usize] = true;
+                    ray_check.run(&ray, t0, t1, tolerance);
+                    for part in &ray_check.parts {
+                        seen[part.region as usize] = true;
                     }
-                    for f in &rc.findings {
-                        let len = f.t1 - f.t0;
-                        let e = Acc {
-                            total: len,
-                            weighted: len * area,
-                            max: len,
-                            point: ray.at(0.5 * (f.t0 + f.t1)),
-                            at: idx,
+                    for finding in &ray_check.findings {
+                        let length = finding.t1 - finding.t0;
+                        let stretch = Acc {
+                            total: length,
+                            weighted: length * area,
+                            max: length,
+                            point: ray.at(0.5 * (finding.t0 + finding.t1)),
+                            at: index,
                             hits: 1,
                         };
-                        acc.entry(f.kind).and_modify(|a| a.merge(&e)).or_insert(e);
+                        found
+                            .entry(finding.kind)
+                            .and_modify(|acc| acc.merge(&stretch))
+                            .or_insert(stretch);
                     }
                 }
-                (acc, seen)
+                (found, seen)
             },
         )
         .collect();
     let mut all: HashMap<FindingKind, Acc> = HashMap::new();
-    let mut seen = vec![false; nreg];
-    for (p, s) in parts {
-        for (a, b) in seen.iter_mut().zip(s) {
-            *a |= b;
+    let mut seen = vec![false; region_count];
+    for (found, chunk_seen) in chunks {
+        for (any, this) in seen.iter_mut().zip(chunk_seen) {
+            *any |= this;
         }
-        let mut keys: Vec<_> = p.into_iter().collect();
-        keys.sort_by_key(|a| a.0);
-        for (k, a) in keys {
-            all.entry(k).and_modify(|x| x.merge(&a)).or_insert(a);
+        let mut entries: Vec<_> = found.into_iter().collect();
+        entries.sort_by_key(|entry| entry.0);
+        for (kind, acc) in entries {
+            all.entry(kind)
+                .and_modify(|sum| sum.merge(&acc))
+                .or_insert(acc);
         }
     }
-    let problem = |a: &Acc| Problem {
-        total_length: a.total,
-        max_length: a.max,
-        point: a.point.to_array(),
-        hits: a.hits,
-        volume: a.weighted / 3.0,
+    (all, seen)
+}
+
+/// The findings of a check, by kind, each list largest first.
+struct Sorted {
+    overlaps: Vec<Overlap>,
+    air_overlaps: Vec<Overlap>,
+    voids: Vec<Void>,
+    outside: Vec<Outside>,
+}
+
+/// Sort the summed findings into the report's lists, largest total length
+/// first; overlaps with air apart unless `strict_air`.
+fn sort_findings(model: &Model, found: HashMap<FindingKind, Acc>, strict_air: bool) -> Sorted {
+    let problem = |acc: &Acc| Problem {
+        total_length: acc.total,
+        max_length: acc.max,
+        point: acc.point.to_array(),
+        hits: acc.hits,
+        volume: acc.weighted / 3.0,
     };
-    let name = |r: u32| model.names[r as usize].clone();
-    let mut overlaps = Vec::new();
-    let mut air_overlaps = Vec::new();
-    let mut voids = Vec::new();
-    let mut outside = Vec::new();
-    let mut entries: Vec<_> = all.into_iter().collect();
+    let name = |region: u32| model.names[region as usize].clone();
+    let is_air = |region: u32| model.air.get(region as usize).copied().unwrap_or(false);
+    let mut sorted = Sorted {
+        overlaps: Vec::new(),
+        air_overlaps: Vec::new(),
+        voids: Vec::new(),
+        outside: Vec::new(),
+    };
+    let mut entries: Vec<_> = found.into_iter().collect();
     entries.sort_by(|a, b| b.1.total.total_cmp(&a.1.total).then(a.0.cmp(&b.0)));
-    for (k, a) in &entries {
-        match *k {
-            FindingKind::Overlap(x, y) => {
-                let air = model.air.get(x as usize).copied().unwrap_or(false)
-                    || model.air.get(y as usize).copied().unwrap_or(false);
-                let o = Overlap {
-                    regions: [name(x), name(y)],
-                    region_indices: [x as usize, y as usize],
+    for (kind, acc) in &entries {
+        match *kind {
+            FindingKind::Overlap(first, second) => {
+                let air = is_air(first) || is_air(second);
+                let overlap = Overlap {
+                    regions: [name(first), name(second)],
+                    region_indices: [first as usize, second as usize],
                     air,
-                    problem: problem(a),
+                    problem: problem(acc),
                 };
-                if air && !opts.strict_air {
-                    air_overlaps.push(o);
+                if air && !strict_air {
+                    sorted.air_overlaps.push(overlap);
                 } else {
-                    overlaps.push(o);
+                    sorted.overlaps.push(overlap);
                 }
             }
-            FindingKind::Void(x, y) => voids.push(Void {
-                between: [x.map(name), y.map(name)],
-                problem: problem(a),
+            FindingKind::Void(before, after) => sorted.voids.push(Void {
+                between: [before.map(name), after.map(name)],
+                problem: problem(acc),
             }),
-            FindingKind::Outside(r) => outside.push(Outside {
-                region: name(r),
-                problem: problem(a),
+            FindingKind::Outside(region) => sorted.outside.push(Outside {
+                region: name(region),
+                problem: problem(acc),
             }),
         }
     }
-    Ok(Report {
-        unit: model.unit.clone(),
-        regions: model.names.len(),
-        bounds: [bx.min.to_array(), bx.max.to_array()],
-        spacing,
-        grid_rays: n_grid,
-        random_rays: opts.random,
-        tolerance: tol,
-        universe: model
-            .universe_note
-            .clone()
-            .map(|description| UniverseInfo { description }),
-        overlaps,
-        air_overlaps,
-        voids,
-        outside,
-        unseen: (0..nreg)
-            .filter(|&r| !seen[r])
-            .map(|r| model.names[r].clone())
-            .collect(),
-        seconds: start.elapsed().as_secs_f64(),
-    })
+    sorted
 }

@@ -7,6 +7,8 @@ use crate::colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 use crate::slice::Slice;
 
 /// Glyph rows, 5 pixels wide, `#` set.
+// Over the 120-line limit on purpose: this is the font, a table of one
+// seven-row picture per character, and reads best as one match.
 fn glyph(c: char) -> [&'static str; 7] {
     match c.to_ascii_uppercase() {
         ' ' => ["     "; 7],
@@ -227,27 +229,28 @@ impl Canvas {
 /// then the overlapping pairs
 /// and the void, each with its swatch; at most 80 entries, then a count of
 /// the rest (the full list is in the legend file).
-pub fn with_legend(s: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
-    let w = s.width as usize;
-    let scale = if w >= 560 { 2 } else { 1 };
-    let mut entries: Vec<(Swatch, String)> = s
+pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
+    let width = section.width as usize;
+    let scale = if width >= 560 { 2 } else { 1 };
+    let mut entries: Vec<(Swatch, String)> = section
         .legend
         .iter()
-        .map(|e| {
-            let text = if e.description.is_empty() || e.description == e.label {
-                e.label.clone()
+        .map(|entry| {
+            let text = if entry.description.is_empty() || entry.description == entry.label {
+                entry.label.clone()
             } else {
-                format!("{} {}", e.label, e.description)
+                format!("{} {}", entry.label, entry.description)
             };
-            (Swatch::Solid(region_colour(&e.label)), text)
+            (Swatch::Solid(region_colour(&entry.label)), text)
         })
         .collect();
     entries.extend(
-        s.overlaps
+        section
+            .overlaps
             .iter()
-            .map(|e| (Swatch::Stripes(OVERLAP_COLOUR), e.label.clone())),
+            .map(|entry| (Swatch::Stripes(OVERLAP_COLOUR), entry.label.clone())),
     );
-    if s.void.is_some() {
+    if section.void.is_some() {
         entries.push((Swatch::Stripes(VOID_COLOUR), "void".into()));
     }
     const MAX: usize = 80;
@@ -257,68 +260,69 @@ pub fn with_legend(s: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
         entries.push((Swatch::Solid([1.0; 3]), format!("... {rest} more")));
     }
     let margin = 4 * scale;
-    let sw = 7 * scale;
+    let swatch_size = 7 * scale;
     let line = 11 * scale;
-    let char_w = 6 * scale;
-    let max_chars = ((w.saturating_sub(2 * margin + sw + 3 * scale)) / char_w).max(1);
-    let label = |t: &str| -> String {
-        if t.chars().count() <= max_chars {
-            t.to_string()
+    let char_width = 6 * scale;
+    let max_chars =
+        ((width.saturating_sub(2 * margin + swatch_size + 3 * scale)) / char_width).max(1);
+    let label = |text: &str| -> String {
+        if text.chars().count() <= max_chars {
+            text.to_string()
         } else {
-            let mut s: String = t.chars().take(max_chars.saturating_sub(1)).collect();
-            s.push('*');
-            s
+            let mut cut: String = text.chars().take(max_chars.saturating_sub(1)).collect();
+            cut.push('*');
+            cut
         }
     };
     let longest = entries
         .iter()
-        .map(|(_, t)| label(t).chars().count())
+        .map(|(_, text)| label(text).chars().count())
         .max()
         .unwrap_or(0);
-    let col_w = sw + 3 * scale + longest * char_w + 8 * scale;
-    let cols = ((w.saturating_sub(2 * margin)) / col_w.max(1)).max(1);
-    let rows = entries.len().div_ceil(cols);
+    let column_width = swatch_size + 3 * scale + longest * char_width + 8 * scale;
+    let columns = ((width.saturating_sub(2 * margin)) / column_width.max(1)).max(1);
+    let rows = entries.len().div_ceil(columns);
     let strip = if entries.is_empty() {
         0
     } else {
         2 * margin + rows * line
     };
-    let h = s.height as usize + strip;
-    let mut c = Canvas {
-        w,
-        h,
-        px: vec![[1.0; 3]; w * h],
+    let height = section.height as usize + strip;
+    let mut canvas = Canvas {
+        w: width,
+        h: height,
+        px: vec![[1.0; 3]; width * height],
     };
-    c.px[..s.rgb.len()].copy_from_slice(&s.rgb);
+    canvas.px[..section.rgb.len()].copy_from_slice(&section.rgb);
     if strip > 0 {
-        for x in 0..w {
-            c.set(x, s.height as usize, [0.3; 3]);
+        for x in 0..width {
+            canvas.set(x, section.height as usize, [0.3; 3]);
         }
     }
-    for (k, (swatch, text)) in entries.iter().enumerate() {
-        let (col, row) = (k % cols, k / cols);
-        let x0 = margin + col * col_w;
-        let y0 = s.height as usize + margin + row * line + scale;
-        for dy in 0..sw {
-            for dx in 0..sw {
-                let edge = dx == 0 || dy == 0 || dx + 1 == sw || dy + 1 == sw;
+    for (index, (swatch, text)) in entries.iter().enumerate() {
+        let (column, row) = (index % columns, index / columns);
+        let x0 = margin + column * column_width;
+        let y0 = section.height as usize + margin + row * line + scale;
+        for dy in 0..swatch_size {
+            for dx in 0..swatch_size {
+                let edge = dx == 0 || dy == 0 || dx + 1 == swatch_size || dy + 1 == swatch_size;
                 let colour = match *swatch {
                     _ if edge => [0.3; 3],
-                    Swatch::Solid(c) => c,
-                    Swatch::Stripes(c) => {
+                    Swatch::Solid(colour) => colour,
+                    Swatch::Stripes(colour) => {
                         if ((dx + dy) / (2 * scale)) % 2 == 0 {
-                            c
+                            colour
                         } else {
                             [0.1; 3]
                         }
                     }
                 };
-                c.set(x0 + dx, y0 + dy, colour);
+                canvas.set(x0 + dx, y0 + dy, colour);
             }
         }
-        c.text(x0 + sw + 3 * scale, y0, &label(text), scale);
+        canvas.text(x0 + swatch_size + 3 * scale, y0, &label(text), scale);
     }
-    (s.width, h as u32, c.px)
+    (section.width, height as u32, canvas.px)
 }
 
 #[cfg(test)]

@@ -13,7 +13,9 @@
 //!   overlaps, voids and region outlines drawn.
 //! * [`volumes`]: volume, statistical error, centroid and mass of every
 //!   region by ray sampling, refined until a relative error is reached.
-//! * [`overlap_pixels`]: which pixels of a picture see an overlap.
+//! * [`overlap_pixels`]: which pixels of a picture see an overlap;
+//!   [`camera_overlaps`] for a camera's picture, and
+//!   [`OverlapPixels::paint`] to mark them on it (`render --overlaps`).
 //!
 //! ```
 //! use sv_check::{check, CheckOptions, Model, UniverseChoice};
@@ -40,16 +42,17 @@ mod colour;
 mod legend;
 mod model;
 mod overlay;
+mod report;
 mod rng;
 mod slice;
 mod volume;
 
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
-pub use check::{check, CheckOptions, Problem, Report, UniverseInfo, Void};
-pub use check::{Outside, Overlap};
+pub use check::{check, CheckOptions};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 pub use legend::with_legend;
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
-pub use overlay::{overlap_pixels, OverlapPixels, PairSeen};
+pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};
+pub use report::{Outside, Overlap, Problem, Report, UniverseInfo, Void};
 pub use slice::{slice, LegendEntry, Plane, Slice, SliceOptions};
 pub use volume::{volumes, RegionVolume, VolumeOptions, VolumeReport};

@@ -162,62 +162,65 @@ impl Model {
         scene: &Scene,
         choice: &UniverseChoice,
     ) -> Result<(Model, Vec<Warning>), CheckError> {
-        let g = &scene.geometry;
-        let (prepared, warnings) = Prepared::new(g, &PrepareOptions::default())?;
+        let geometry = &scene.geometry;
+        let (prepared, warnings) = Prepared::new(geometry, &PrepareOptions::default())?;
         let (universe, note) = match choice {
             UniverseChoice::None => (None, None),
             UniverseChoice::Auto => match detect_black_hole(scene) {
-                Some((i, why)) => (
-                    Some(Universe::Region(i)),
+                Some((region, why)) => (
+                    Some(Universe::Region(region)),
                     Some(format!(
                         "region `{}` (found automatically: {why})",
-                        g.regions[i].name
+                        geometry.regions[region].name
                     )),
                 ),
                 None => (None, None),
             },
-            UniverseChoice::Named(n) => {
-                if let Some(i) = g.region_index(n) {
-                    (Some(Universe::Region(i)), Some(format!("region `{n}`")))
-                } else if let Some(i) = g.body_index(n) {
-                    (Some(Universe::Body(i)), Some(format!("body `{n}`")))
+            UniverseChoice::Named(name) => {
+                if let Some(region) = geometry.region_index(name) {
+                    (
+                        Some(Universe::Region(region)),
+                        Some(format!("region `{name}`")),
+                    )
+                } else if let Some(body) = geometry.body_index(name) {
+                    (Some(Universe::Body(body)), Some(format!("body `{name}`")))
                 } else {
-                    return Err(CheckError::UnknownUniverse(n.clone()));
+                    return Err(CheckError::UnknownUniverse(name.clone()));
                 }
             }
         };
         let hull = match universe {
             None => None,
-            Some(u) => Some(build_hull(g, u)?),
+            Some(universe) => Some(build_hull(geometry, universe)?),
         };
-        let region_bounds: Vec<Aabb> = g
+        let region_bounds: Vec<Aabb> = geometry
             .regions
             .iter()
             .map(|r| region_bounds(&prepared, r))
             .collect();
         let mut box_ = prepared.bounds();
-        if let Some(Hull::Prepared(h)) = &hull {
-            if h.bounds().is_finite() {
-                box_ = box_.union(&h.bounds());
+        if let Some(Hull::Prepared(hull)) = &hull {
+            if hull.bounds().is_finite() {
+                box_ = box_.union(&hull.bounds());
             }
         }
         Ok((
             Model {
                 prepared,
-                names: g.regions.iter().map(|r| r.name.clone()).collect(),
+                names: geometry.regions.iter().map(|r| r.name.clone()).collect(),
                 universe,
                 universe_note: note,
                 densities: scene.regions.iter().map(|r| r.density).collect(),
-                descriptions: (0..g.regions.len())
-                    .map(|i| {
+                descriptions: (0..geometry.regions.len())
+                    .map(|region| {
                         scene
                             .regions
-                            .get(i)
+                            .get(region)
                             .map_or(String::new(), |r| r.description.trim().to_string())
                     })
                     .collect(),
-                air: (0..g.regions.len())
-                    .map(|i| scene.regions.get(i).is_some_and(|r| r.air != 0))
+                air: (0..geometry.regions.len())
+                    .map(|region| scene.regions.get(region).is_some_and(|r| r.air != 0))
                     .collect(),
                 cm_per_unit: scene.units.mm() / 10.0,
                 unit: scene.units.abbrev().to_string(),

@@ -145,10 +145,37 @@ fn hex(c: [f32; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", b(c[0]), b(c[1]), b(c[2]))
 }
 
+/// Where a section view lies in its plane, and its raster.
+struct View {
+    /// Plane coordinates (along `u`, `v`) of the picture's centre.
+    centre: (f64, f64),
+    /// Width and height in model units.
+    extent: (f64, f64),
+    /// Width and height in pixels.
+    width: u32,
+    height: u32,
+}
+
+impl View {
+    /// Model units across a pixel, along `u` and `v`.
+    fn pixel(&self) -> (f64, f64) {
+        (
+            self.extent.0 / self.width as f64,
+            self.extent.1 / self.height as f64,
+        )
+    }
+}
+
+/// The lowest and the highest of a coordinate.
+type Span = (f64, f64);
+
+/// Per pixel, row-major: 0 nothing, `r + 1` region `r`, [`Slice::OVERLAP`]
+/// or [`Slice::VOID`]; and the pixels of every overlapping pair.
+type Classes = (Vec<u32>, BTreeMap<(u32, u32), u64>);
+
 /// Cut `model` with the plane of `opts`. Runs on the current rayon pool.
 pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
-    let pl = opts.plane;
-    let tol = match opts.tolerance {
+    let tolerance = match opts.tolerance {
         Some(t) if t >= 0.0 && t.is_finite() => t,
         Some(t) => {
             return Err(CheckError::Option(format!(
@@ -157,29 +184,66 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         }
         None => default_tolerance(&model.prepared),
     };
-    // The box's corners in plane coordinates (the plane's origin when
-    // there is no finite box and the extent is given).
-    let b = match (model.finite_bounds(), opts.extent) {
-        (Ok(b), _) => b,
-        (Err(_), Some(_)) => sv_math::Aabb::new(pl.origin, pl.origin),
-        (Err(e), None) => return Err(e),
+    let view = view(model, opts)?;
+    let (class, pairs) = classify(model, opts, &view, tolerance);
+    let colours: Vec<[f32; 3]> = model.names.iter().map(|n| region_colour(n)).collect();
+    let (rgb, region_pixels, void_pixels) = paint(&class, view.width, &colours);
+    let (dx, dy) = view.pixel();
+    let pixel_area = dx * dy;
+    let entry = |label: String, description: String, colour: [f32; 3], pixels: u64| LegendEntry {
+        label,
+        description,
+        colour: hex(colour),
+        pixels,
+        area: pixels as f64 * pixel_area,
     };
-    let (mut umin, mut umax, mut vmin, mut vmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for i in 0..8 {
-        let c = DVec3::new(
-            if i & 1 == 0 { b.min.x } else { b.max.x },
-            if i & 2 == 0 { b.min.y } else { b.max.y },
-            if i & 4 == 0 { b.min.z } else { b.max.z },
-        );
-        let d = c - pl.origin;
-        let (cu, cv) = (d.dot(pl.u), d.dot(pl.v));
-        umin = umin.min(cu);
-        umax = umax.max(cu);
-        vmin = vmin.min(cv);
-        vmax = vmax.max(cv);
-    }
-    let (uc, vc) = (0.5 * (umin + umax), 0.5 * (vmin + vmax));
-    let (ew, eh) = match opts.extent {
+    let mut legend: Vec<LegendEntry> = region_pixels
+        .iter()
+        .enumerate()
+        .filter(|(_, pixels)| **pixels > 0)
+        .map(|(region, pixels)| {
+            let description = model.descriptions.get(region).cloned().unwrap_or_default();
+            entry(
+                model.names[region].clone(),
+                description,
+                colours[region],
+                *pixels,
+            )
+        })
+        .collect();
+    legend.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.label.cmp(&b.label)));
+    let mut overlaps: Vec<LegendEntry> = pairs
+        .into_iter()
+        .filter(|(_, pixels)| *pixels > 0)
+        .map(|((a, b), pixels)| {
+            let label = format!("{} × {}", model.names[a as usize], model.names[b as usize]);
+            entry(label, String::new(), OVERLAP_COLOUR, pixels)
+        })
+        .collect();
+    overlaps.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.label.cmp(&b.label)));
+    let void =
+        (void_pixels > 0).then(|| entry("void".into(), String::new(), VOID_COLOUR, void_pixels));
+    let plane = opts.plane;
+    Ok(Slice {
+        width: view.width,
+        height: view.height,
+        rgb,
+        class,
+        legend,
+        overlaps,
+        void,
+        centre: plane.origin + plane.u * view.centre.0 + plane.v * view.centre.1,
+        extent: view.extent,
+        plane,
+    })
+}
+
+/// The part of the plane to show (`opts.extent`, or the model's bounds
+/// projected on the plane with a margin) and the raster (`opts.size`, or
+/// 800 pixels on the long side).
+fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
+    let ((umin, umax), (vmin, vmax)) = projected_bounds(model, opts)?;
+    let (extent_w, extent_h) = match opts.extent {
         Some((w, h)) if w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite() => (w, h),
         Some((w, h)) => {
             return Err(CheckError::Option(format!(
@@ -188,11 +252,11 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
         }
         None => {
             let (w, h) = ((umax - umin) * 1.08, (vmax - vmin) * 1.08);
-            let m = w.max(h).max(1e-9);
-            (w.max(m * 0.02), h.max(m * 0.02))
+            let longest = w.max(h).max(1e-9);
+            (w.max(longest * 0.02), h.max(longest * 0.02))
         }
     };
-    let (w, h) = match opts.size {
+    let (width, height) = match opts.size {
         Some((w, h))
             if w > 0 && h > 0 && w <= 16384 && h <= 16384 && (w as u64) * (h as u64) <= 1 << 26 =>
         {
@@ -204,62 +268,110 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
             )))
         }
         None => {
-            if ew >= eh {
-                (800, ((800.0 * eh / ew).round() as u32).max(1))
+            if extent_w >= extent_h {
+                (800, ((800.0 * extent_h / extent_w).round() as u32).max(1))
             } else {
-                (((800.0 * ew / eh).round() as u32).max(1), 800)
+                (((800.0 * extent_w / extent_h).round() as u32).max(1), 800)
             }
         }
     };
     // A size without an extent keeps pixels square: the default extent
     // grows to the picture's aspect.
-    let (ew, eh) = match (opts.extent, opts.size) {
+    let extent = match (opts.extent, opts.size) {
         (None, Some(_)) => {
-            let aspect = w as f64 / h as f64;
-            if ew / eh < aspect {
-                (eh * aspect, eh)
+            let aspect = width as f64 / height as f64;
+            if extent_w / extent_h < aspect {
+                (extent_h * aspect, extent_h)
             } else {
-                (ew, ew / aspect)
+                (extent_w, extent_w / aspect)
             }
         }
-        _ => (ew, eh),
+        _ => (extent_w, extent_h),
     };
-    let (dx, dy) = (ew / w as f64, eh / h as f64);
-    let pad = 0.01 * ew + dx;
-    let centre = pl.origin + pl.u * uc + pl.v * vc;
-    let wu = w as usize;
-    let air = |r: u32| model.air.get(r as usize).copied().unwrap_or(false);
-    type Row = (Vec<u32>, BTreeMap<(u32, u32), u64>);
-    let rows: Vec<Row> = (0..h)
+    Ok(View {
+        centre: (0.5 * (umin + umax), 0.5 * (vmin + vmax)),
+        extent,
+        width,
+        height,
+    })
+}
+
+/// The ranges along `u` and `v` of the model's box projected on the
+/// plane (the plane's origin when there is no finite box and the extent
+/// is given).
+fn projected_bounds(model: &Model, opts: &SliceOptions) -> Result<(Span, Span), CheckError> {
+    let plane = opts.plane;
+    let bounds = match (model.finite_bounds(), opts.extent) {
+        (Ok(b), _) => b,
+        (Err(_), Some(_)) => sv_math::Aabb::new(plane.origin, plane.origin),
+        (Err(e), None) => return Err(e),
+    };
+    let (mut umin, mut umax, mut vmin, mut vmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for corner_index in 0..8 {
+        let pick = |bit: usize, low: f64, high: f64| {
+            if corner_index & bit == 0 {
+                low
+            } else {
+                high
+            }
+        };
+        let corner = DVec3::new(
+            pick(1, bounds.min.x, bounds.max.x),
+            pick(2, bounds.min.y, bounds.max.y),
+            pick(4, bounds.min.z, bounds.max.z),
+        );
+        let offset = corner - plane.origin;
+        let (u, v) = (offset.dot(plane.u), offset.dot(plane.v));
+        umin = umin.min(u);
+        umax = umax.max(u);
+        vmin = vmin.min(v);
+        vmax = vmax.max(v);
+    }
+    Ok(((umin, umax), (vmin, vmax)))
+}
+
+/// Classify every pixel: one ray per row along `u`, each pixel taking the
+/// region whose stretch holds its centre, then the overlaps and voids.
+fn classify(model: &Model, opts: &SliceOptions, view: &View, tolerance: f64) -> Classes {
+    let plane = opts.plane;
+    let (extent_w, extent_h) = view.extent;
+    let (dx, dy) = view.pixel();
+    let pad = 0.01 * extent_w + dx;
+    let width = view.width;
+    let air = |region: u32| model.air.get(region as usize).copied().unwrap_or(false);
+    let rows: Vec<Classes> = (0..view.height)
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),
-            |rc, j| {
-                let v = vc + 0.5 * eh - (j as f64 + 0.5) * dy;
-                let o = pl.origin + pl.u * (uc - 0.5 * ew - pad) + pl.v * v;
-                let ray = Ray::new(o, pl.u);
-                rc.run(&ray, 0.0, ew + 2.0 * pad, tol);
-                let mut class = vec![0u32; wu];
-                let range = |a: f64, b: f64| {
-                    let f = |t: f64| ((t - pad) / dx - 0.5).ceil().clamp(0.0, w as f64) as usize;
-                    f(a)..f(b)
+            |ray_check, row| {
+                let v = view.centre.1 + 0.5 * extent_h - (row as f64 + 0.5) * dy;
+                let start =
+                    plane.origin + plane.u * (view.centre.0 - 0.5 * extent_w - pad) + plane.v * v;
+                let ray = Ray::new(start, plane.u);
+                ray_check.run(&ray, 0.0, extent_w + 2.0 * pad, tolerance);
+                let mut class = vec![0u32; width as usize];
+                // The pixels whose centres lie between ray parameters a and b.
+                let pixels = |a: f64, b: f64| {
+                    let column =
+                        |t: f64| ((t - pad) / dx - 0.5).ceil().clamp(0.0, width as f64) as usize;
+                    column(a)..column(b)
                 };
-                for p in &rc.parts {
-                    for c in &mut class[range(p.span.a.t, p.span.b.t)] {
+                for part in &ray_check.parts {
+                    for c in &mut class[pixels(part.span.a.t, part.span.b.t)] {
                         if *c == 0 {
-                            *c = p.region + 1;
+                            *c = part.region + 1;
                         }
                     }
                 }
                 let mut pairs = BTreeMap::new();
-                for f in &rc.findings {
-                    let code = match f.kind {
+                for finding in &ray_check.findings {
+                    let code = match finding.kind {
                         FindingKind::Overlap(a, b) if !opts.strict_air && (air(a) || air(b)) => {
                             // Air gives way: the solid region is drawn (two
                             // air regions: the first claim stays).
                             if air(a) != air(b) {
                                 let solid = if air(a) { b } else { a };
-                                for c in &mut class[range(f.t0, f.t1)] {
+                                for c in &mut class[pixels(finding.t0, finding.t1)] {
                                     if *c != Slice::OVERLAP && *c != Slice::VOID {
                                         *c = solid + 1;
                                     }
@@ -271,11 +383,11 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
                         FindingKind::Void(..) => Slice::VOID,
                         FindingKind::Outside(_) => continue,
                     };
-                    let r = range(f.t0, f.t1);
-                    if let FindingKind::Overlap(a, b) = f.kind {
-                        *pairs.entry((a, b)).or_insert(0) += r.len() as u64;
+                    let covered = pixels(finding.t0, finding.t1);
+                    if let FindingKind::Overlap(a, b) = finding.kind {
+                        *pairs.entry((a, b)).or_insert(0) += covered.len() as u64;
                     }
-                    for c in &mut class[r] {
+                    for c in &mut class[covered] {
                         *c = code;
                     }
                 }
@@ -283,25 +395,32 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
             },
         )
         .collect();
-    let mut class = Vec::with_capacity(wu * h as usize);
+    let mut class = Vec::with_capacity(width as usize * view.height as usize);
     let mut pairs: BTreeMap<(u32, u32), u64> = BTreeMap::new();
-    for (c, p) in rows {
-        class.extend(c);
-        for (k, n) in p {
-            *pairs.entry(k).or_insert(0) += n;
+    for (row_class, row_pairs) in rows {
+        class.extend(row_class);
+        for (pair, pixels) in row_pairs {
+            *pairs.entry(pair).or_insert(0) += pixels;
         }
     }
-    let colours: Vec<[f32; 3]> = model.names.iter().map(|n| region_colour(n)).collect();
-    let hh = h as usize;
+    (class, pairs)
+}
+
+/// Colour the classified pixels: regions in `colours`, overlaps and voids
+/// in stripes, the edges between classes darkened. Also the pixels of
+/// every region and of the void.
+fn paint(class: &[u32], width: u32, colours: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<u64>, u64) {
+    let columns = width as usize;
+    let rows = class.len() / columns.max(1);
     let mut rgb = vec![[1.0f32; 3]; class.len()];
-    let mut counts = vec![0u64; model.names.len()];
-    let mut void_px = 0u64;
-    for j in 0..hh {
-        for i in 0..wu {
-            let k = j * wu + i;
-            let c = class[k];
-            let stripe = ((i + j) / 4) % 2 == 0;
-            let mut col = match c {
+    let mut region_pixels = vec![0u64; colours.len()];
+    let mut void_pixels = 0u64;
+    for row in 0..rows {
+        for column in 0..columns {
+            let index = row * columns + column;
+            let here = class[index];
+            let stripe = ((column + row) / 4) % 2 == 0;
+            let mut colour = match here {
                 0 => [1.0; 3],
                 Slice::OVERLAP => {
                     if stripe {
@@ -311,68 +430,25 @@ pub fn slice(model: &Model, opts: &SliceOptions) -> Result<Slice, CheckError> {
                     }
                 }
                 Slice::VOID => {
-                    void_px += 1;
+                    void_pixels += 1;
                     if stripe {
                         VOID_COLOUR
                     } else {
                         [0.05, 0.05, 0.05]
                     }
                 }
-                r => {
-                    counts[(r - 1) as usize] += 1;
-                    colours[(r - 1) as usize]
+                region => {
+                    region_pixels[(region - 1) as usize] += 1;
+                    colours[(region - 1) as usize]
                 }
             };
-            let edge = (i + 1 < wu && class[k + 1] != c) || (j + 1 < hh && class[k + wu] != c);
+            let edge = (column + 1 < columns && class[index + 1] != here)
+                || (row + 1 < rows && class[index + columns] != here);
             if edge {
-                col = col.map(|x| x * 0.35);
+                colour = colour.map(|x| x * 0.35);
             }
-            rgb[k] = col;
+            rgb[index] = colour;
         }
     }
-    let px_area = dx * dy;
-    let mut legend: Vec<LegendEntry> = counts
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| **n > 0)
-        .map(|(r, n)| LegendEntry {
-            label: model.names[r].clone(),
-            description: model.descriptions.get(r).cloned().unwrap_or_default(),
-            colour: hex(colours[r]),
-            pixels: *n,
-            area: *n as f64 * px_area,
-        })
-        .collect();
-    legend.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.label.cmp(&b.label)));
-    let mut overlaps: Vec<LegendEntry> = pairs
-        .into_iter()
-        .filter(|(_, n)| *n > 0)
-        .map(|((a, b), n)| LegendEntry {
-            label: format!("{} × {}", model.names[a as usize], model.names[b as usize]),
-            description: String::new(),
-            colour: hex(OVERLAP_COLOUR),
-            pixels: n,
-            area: n as f64 * px_area,
-        })
-        .collect();
-    overlaps.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.label.cmp(&b.label)));
-    let void = (void_px > 0).then(|| LegendEntry {
-        label: "void".into(),
-        description: String::new(),
-        colour: hex(VOID_COLOUR),
-        pixels: void_px,
-        area: void_px as f64 * px_area,
-    });
-    Ok(Slice {
-        width: w,
-        height: h,
-        rgb,
-        class,
-        legend,
-        overlaps,
-        void,
-        centre,
-        extent: (ew, eh),
-        plane: pl,
-    })
+    (rgb, region_pixels, void_pixels)
 }

@@ -11,8 +11,8 @@
 //! sampled with batches over their own bounds, restarting their statistics.
 
 use crate::analyse::RayCheck;
-use crate::check::fmt_g;
 use crate::model::{CheckError, Model};
+use crate::report::fmt_g;
 use crate::rng::uniform;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -101,65 +101,66 @@ impl VolumeReport {
 
     /// The report as a table.
     pub fn to_table(&self) -> String {
-        let u = &self.unit;
-        let mut s = String::new();
+        let unit = &self.unit;
+        let mut text = String::new();
         let _ = writeln!(
-            s,
+            text,
             "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}",
             "region",
-            format!("volume {u}³"),
+            format!("volume {unit}³"),
             "± (1σ)",
             "rel",
             "centroid (x, y, z)",
             "mass g"
         );
-        for r in &self.regions {
-            let c = r.centroid.map_or("-".to_string(), |c| {
+        for region in &self.regions {
+            let centroid = region.centroid.map_or("-".to_string(), |c| {
                 format!("({}, {}, {})", fmt_g(c[0]), fmt_g(c[1]), fmt_g(c[2]))
             });
-            let m = match (r.mass_g, r.mass_error_g) {
-                (Some(m), Some(e)) => format!("{} ± {}", fmt_g(m), fmt_g(e)),
+            let mass = match (region.mass_g, region.mass_error_g) {
+                (Some(mass), Some(error)) => format!("{} ± {}", fmt_g(mass), fmt_g(error)),
                 _ => "-".into(),
             };
-            let flag = match (r.converged, r.clipped) {
+            let flag = match (region.converged, region.clipped) {
                 (true, false) => "",
                 (true, true) => "  (clipped to the box)",
                 (false, false) => "  (not converged)",
                 (false, true) => "  (not converged; clipped to the box)",
             };
+            let rel_error = if region.rel_error.is_finite() {
+                format!("{:.2e}", region.rel_error)
+            } else {
+                "-".into()
+            };
             let _ = writeln!(
-                s,
+                text,
                 "{:<24} {:>14} {:>11} {:>9} {:>36} {:>14}{flag}",
-                r.region,
-                fmt_g(r.volume),
-                fmt_g(r.error),
-                if r.rel_error.is_finite() {
-                    format!("{:.2e}", r.rel_error)
-                } else {
-                    "-".into()
-                },
-                c,
-                m
+                region.region,
+                fmt_g(region.volume),
+                fmt_g(region.error),
+                rel_error,
+                centroid,
+                mass
             );
         }
         let _ = writeln!(
-            s,
+            text,
             "{} rays in {:.2} s; target relative error {}",
             self.rays,
             self.seconds,
             fmt_g(self.rel_error_target)
         );
         if self.not_converged.is_empty() {
-            let _ = writeln!(s, "every region converged");
+            let _ = writeln!(text, "every region converged");
         } else {
             let _ = writeln!(
-                s,
+                text,
                 "did not converge ({}): {}",
                 self.not_converged.len(),
                 self.not_converged.join(", ")
             );
         }
-        s
+        text
     }
 }
 
@@ -266,127 +267,167 @@ pub fn volumes(model: &Model, opts: &VolumeOptions) -> Result<VolumeReport, Chec
         ));
     }
     let start = Instant::now();
-    let nr = model.names.len();
-    let bx = model.finite_bounds()?;
-    let box_vol = bx.size().x * bx.size().y * bx.size().z;
-    let mut stats = vec![Stats::default(); nr];
-    let mut rays: u64 = 0;
-    let rel = opts.rel_error;
-    let min = opts.min_batches;
+    let model_box = model.finite_bounds()?;
+    let box_volume = model_box.size().x * model_box.size().y * model_box.size().z;
     // Regions whose bounds fill less than an eighth of the box get their
     // own batches when the global ones do not settle them.
-    let small: Vec<bool> = (0..nr)
-        .map(|r| {
-            let b = model.region_bounds(r);
-            let s = b.size();
-            !b.is_empty() && s.x * s.y * s.z < box_vol / 8.0
+    let small: Vec<bool> = (0..model.names.len())
+        .map(|region| {
+            let bounds = model.region_bounds(region);
+            let size = bounds.size();
+            !bounds.is_empty() && size.x * size.y * size.z < box_volume / 8.0
         })
         .collect();
-    let per_global = 3 * (opts.rays_per_side as u64).pow(2);
-    let global_budget = if small.iter().any(|s| *s) {
-        opts.max_rays / 2
-    } else {
-        opts.max_rays
-    };
-    let mut id: u64 = 0;
-    loop {
-        let mut sums = vec![(0.0, DVec3::ZERO); nr];
-        for (r, v, m) in batch(model, &margin(&bx), opts.rays_per_side, opts.seed, id, None) {
-            sums[r as usize].0 += v;
-            sums[r as usize].1 += m;
-        }
-        id += 1;
-        rays += per_global;
-        for (st, (v, m)) in stats.iter_mut().zip(sums) {
-            st.add(v, m);
-        }
-        // Regions never hit after the minimum are empty or too thin to see.
-        let settled = |st: &Stats| st.converged(rel, min) || (st.n >= min && st.mean == 0.0);
-        let pending = (0..nr).any(|r| !small[r] && !settled(&stats[r]));
-        let more_small = (0..nr).any(|r| small[r] && stats[r].n < min);
-        if (!pending && !more_small) || rays + per_global > global_budget {
-            break;
-        }
-    }
-    // Targeted batches, round robin over the small regions left.
-    let per_region = 3 * (opts.region_rays_per_side as u64).pow(2);
-    let mut todo: Vec<usize> = (0..nr)
-        .filter(|&r| small[r] && !stats[r].converged(rel, min))
-        .collect();
-    for &r in &todo {
-        stats[r] = Stats::default();
-    }
-    while !todo.is_empty() && rays + per_region <= opts.max_rays {
-        let mut next = Vec::new();
-        for &r in &todo {
-            if rays + per_region > opts.max_rays {
-                next.push(r);
-                continue;
-            }
-            let b = margin(&model.region_bounds(r));
-            let (mut v, mut m) = (0.0, DVec3::ZERO);
-            for (_, dv, dm) in batch(
-                model,
-                &b,
-                opts.region_rays_per_side,
-                opts.seed ^ 0x7a29_e7ed,
-                ((r as u64) << 24) | stats[r].n as u64,
-                Some(r as u32),
-            ) {
-                v += dv;
-                m += dm;
-            }
-            rays += per_region;
-            stats[r].add(v, m);
-            let st = stats[r];
-            let hopeless = st.n >= min && st.mean == 0.0;
-            if !st.converged(rel, min) && !hopeless {
-                next.push(r);
-            }
-        }
-        todo = next;
-    }
-    let mut regions = Vec::with_capacity(nr);
+    let mut stats = vec![Stats::default(); model.names.len()];
+    let rays = global_batches(model, &model_box, opts, &small, &mut stats);
+    let rays = targeted_batches(model, opts, &small, &mut stats, rays);
+    let mut regions = Vec::with_capacity(stats.len());
     let mut not_converged = Vec::new();
-    let cm3 = model.cm_per_unit.powi(3);
-    for (r, st) in stats.iter().enumerate() {
-        let err = if st.mean > 0.0 { st.stderr() } else { 0.0 };
-        let converged = st.converged(rel, min);
-        if !converged {
-            not_converged.push(model.names[r].clone());
+    for (region, region_stats) in stats.iter().enumerate() {
+        let measured = region_volume(model, opts, region, region_stats);
+        if !measured.converged {
+            not_converged.push(measured.region.clone());
         }
-        let centroid = if st.mean > 0.0 {
-            Some((st.moment / (st.mean * st.n as f64)).to_array())
-        } else {
-            None
-        };
-        let (mass, merr) = match model.densities.get(r).copied().flatten() {
-            Some(d) => (Some(st.mean * cm3 * d), Some(err * cm3 * d)),
-            None => (None, None),
-        };
-        regions.push(RegionVolume {
-            region: model.names[r].clone(),
-            volume: st.mean,
-            error: err,
-            rel_error: if st.mean > 0.0 {
-                err / st.mean
-            } else {
-                f64::INFINITY
-            },
-            centroid,
-            mass_g: mass,
-            mass_error_g: merr,
-            converged,
-            batches: st.n,
-            clipped: model.region_is_clipped(r),
-        });
+        regions.push(measured);
     }
     Ok(VolumeReport {
         unit: model.unit.clone(),
-        rel_error_target: rel,
+        rel_error_target: opts.rel_error,
         rays,
         seconds: start.elapsed().as_secs_f64(),
         regions,
         not_converged,
     })
+}
+
+/// Batches over the whole model's box until every region that is not
+/// small has settled and every small one has the minimum of batches, or
+/// the global share of the rays is spent. Returns the rays fired.
+fn global_batches(
+    model: &Model,
+    model_box: &Aabb,
+    opts: &VolumeOptions,
+    small: &[bool],
+    stats: &mut [Stats],
+) -> u64 {
+    let (rel, min) = (opts.rel_error, opts.min_batches);
+    let per_batch = 3 * (opts.rays_per_side as u64).pow(2);
+    let budget = if small.iter().any(|s| *s) {
+        opts.max_rays / 2
+    } else {
+        opts.max_rays
+    };
+    let sampled = margin(model_box);
+    let mut rays: u64 = 0;
+    let mut batch_id: u64 = 0;
+    loop {
+        let mut sums = vec![(0.0, DVec3::ZERO); stats.len()];
+        for (region, volume, moment) in batch(
+            model,
+            &sampled,
+            opts.rays_per_side,
+            opts.seed,
+            batch_id,
+            None,
+        ) {
+            sums[region as usize].0 += volume;
+            sums[region as usize].1 += moment;
+        }
+        batch_id += 1;
+        rays += per_batch;
+        for (region_stats, (volume, moment)) in stats.iter_mut().zip(sums) {
+            region_stats.add(volume, moment);
+        }
+        // Regions never hit after the minimum are empty or too thin to see.
+        let settled = |st: &Stats| st.converged(rel, min) || (st.n >= min && st.mean == 0.0);
+        let regions = 0..stats.len();
+        let pending = regions.clone().any(|r| !small[r] && !settled(&stats[r]));
+        let more_small = regions.clone().any(|r| small[r] && stats[r].n < min);
+        if (!pending && !more_small) || rays + per_batch > budget {
+            return rays;
+        }
+    }
+}
+
+/// Batches over the bounds of each small region the global batches left
+/// unconverged (its statistics restarted), round robin, until each
+/// converges or is seen to be empty, or [`VolumeOptions::max_rays`] is
+/// reached. `rays` were fired before; returns the rays fired in all.
+fn targeted_batches(
+    model: &Model,
+    opts: &VolumeOptions,
+    small: &[bool],
+    stats: &mut [Stats],
+    mut rays: u64,
+) -> u64 {
+    let (rel, min) = (opts.rel_error, opts.min_batches);
+    let per_batch = 3 * (opts.region_rays_per_side as u64).pow(2);
+    let mut todo: Vec<usize> = (0..stats.len())
+        .filter(|&r| small[r] && !stats[r].converged(rel, min))
+        .collect();
+    for &region in &todo {
+        stats[region] = Stats::default();
+    }
+    while !todo.is_empty() && rays + per_batch <= opts.max_rays {
+        let mut next = Vec::new();
+        for &region in &todo {
+            if rays + per_batch > opts.max_rays {
+                next.push(region);
+                continue;
+            }
+            let sampled = margin(&model.region_bounds(region));
+            let (mut volume, mut moment) = (0.0, DVec3::ZERO);
+            for (_, batch_volume, batch_moment) in batch(
+                model,
+                &sampled,
+                opts.region_rays_per_side,
+                opts.seed ^ 0x7a29_e7ed,
+                ((region as u64) << 24) | stats[region].n as u64,
+                Some(region as u32),
+            ) {
+                volume += batch_volume;
+                moment += batch_moment;
+            }
+            rays += per_batch;
+            stats[region].add(volume, moment);
+            let region_stats = stats[region];
+            let hopeless = region_stats.n >= min && region_stats.mean == 0.0;
+            if !region_stats.converged(rel, min) && !hopeless {
+                next.push(region);
+            }
+        }
+        todo = next;
+    }
+    rays
+}
+
+/// What the batches tell of `region`.
+fn region_volume(model: &Model, opts: &VolumeOptions, region: usize, st: &Stats) -> RegionVolume {
+    let error = if st.mean > 0.0 { st.stderr() } else { 0.0 };
+    let centroid = if st.mean > 0.0 {
+        Some((st.moment / (st.mean * st.n as f64)).to_array())
+    } else {
+        None
+    };
+    let cm3 = model.cm_per_unit.powi(3);
+    let (mass_g, mass_error_g) = match model.densities.get(region).copied().flatten() {
+        Some(density) => (Some(st.mean * cm3 * density), Some(error * cm3 * density)),
+        None => (None, None),
+    };
+    RegionVolume {
+        region: model.names[region].clone(),
+        volume: st.mean,
+        error,
+        rel_error: if st.mean > 0.0 {
+            error / st.mean
+        } else {
+            f64::INFINITY
+        },
+        centroid,
+        mass_g,
+        mass_error_g,
+        converged: st.converged(opts.rel_error, opts.min_batches),
+        batches: st.n,
+        clipped: model.region_is_clipped(region),
+    }
 }

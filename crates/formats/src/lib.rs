@@ -24,6 +24,9 @@ pub struct Loaded {
     pub scene: Scene,
     /// Warnings (the input was used anyway).
     pub warnings: Vec<Diagnostic>,
+    /// The format it was read in (what the rules of that format need
+    /// later, e.g. FLUKA's overlaps with vacuum counting, comes from here).
+    pub format: Format,
 }
 
 /// COMGEOM card layout version.

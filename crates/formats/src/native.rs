@@ -220,7 +220,11 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         return Err(diags);
     }
     warnings.extend(diags.items);
-    Ok(Loaded { scene, warnings })
+    Ok(Loaded {
+        scene,
+        warnings,
+        format: crate::Format::Native,
+    })
 }
 
 /// Name → index maps of the scene being read, kept in step with it, so a
@@ -799,6 +803,7 @@ fn include(
         Ok(Loaded {
             scene: inner,
             warnings: Vec::new(),
+            format: crate::Format::Native,
         })
     } else {
         crate::load_source(&src, format, opts)

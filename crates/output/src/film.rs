@@ -500,60 +500,74 @@ fn write_gif(
     out: &Path,
 ) -> Result<(), FilmError> {
     let first = read_frame(dir, 0)?;
-    let (w0, h0) = first.dimensions();
-    let scale = if max_width > 0 && w0 > max_width {
-        max_width as f64 / w0 as f64
+    let (source_width, source_height) = first.dimensions();
+    let scale = if max_width > 0 && source_width > max_width {
+        max_width as f64 / source_width as f64
     } else {
         1.0
     };
-    let w = ((w0 as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
-    let h = ((h0 as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
+    let width = ((source_width as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
+    let height = ((source_height as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
     let delays = gif_delays(total, fps);
     let gif_err = |e: gif::EncodingError| FilmError::Image {
         path: out.to_owned(),
         message: e.to_string(),
     };
-    let sized = |f: usize| -> Result<image::RgbaImage, FilmError> {
-        let img = read_frame(dir, f)?;
-        Ok(if img.dimensions() != (w, h) {
-            image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle)
+    let sized = |frame_number: usize| -> Result<image::RgbaImage, FilmError> {
+        let picture = read_frame(dir, frame_number)?;
+        Ok(if picture.dimensions() != (width, height) {
+            image::imageops::resize(
+                &picture,
+                width,
+                height,
+                image::imageops::FilterType::Triangle,
+            )
         } else {
-            img
+            picture
         })
     };
     // One palette for the whole film, learnt from frames spread over it:
     // one quantisation instead of one per frame, and no colour flicker
     // from frame to frame.
     let samples: Vec<usize> = (0..GIF_PALETTE_FRAMES.min(total))
-        .map(|i| i * total / GIF_PALETTE_FRAMES.min(total))
+        .map(|sample| sample * total / GIF_PALETTE_FRAMES.min(total))
         .collect();
     let mut pixels = Vec::new();
-    for img in samples.par_iter().map(|&f| sized(f)).collect::<Vec<_>>() {
-        pixels.extend_from_slice(img?.as_raw());
+    for picture in samples
+        .par_iter()
+        .map(|&frame_number| sized(frame_number))
+        .collect::<Vec<_>>()
+    {
+        pixels.extend_from_slice(picture?.as_raw());
     }
     let palette = Palette::learn(&pixels);
     let mut failure: Option<FilmError> = None;
-    let r = write_atomically(out, |wr| {
+    let written = write_atomically(out, |writer| {
         let run = || -> Result<(), FilmError> {
-            let mut enc =
-                gif::Encoder::new(wr, w as u16, h as u16, &palette.rgb).map_err(gif_err)?;
-            enc.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
+            let mut encoder = gif::Encoder::new(writer, width as u16, height as u16, &palette.rgb)
+                .map_err(gif_err)?;
+            encoder.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
             // Map a batch of frames in parallel, write them in order.
             let frames: Vec<usize> = (0..total).collect();
             for batch in frames.chunks(16) {
                 let encoded: Vec<Result<gif::Frame<'static>, FilmError>> = batch
                     .par_iter()
-                    .map(|&f| {
-                        let img = sized(f)?;
-                        let idx: Vec<u8> = img.pixels().map(|p| palette.index(p.0)).collect();
-                        let mut frame =
-                            gif::Frame::from_indexed_pixels(w as u16, h as u16, idx, None);
-                        frame.delay = delays[f];
+                    .map(|&frame_number| {
+                        let picture = sized(frame_number)?;
+                        let indices: Vec<u8> =
+                            picture.pixels().map(|p| palette.index(p.0)).collect();
+                        let mut frame = gif::Frame::from_indexed_pixels(
+                            width as u16,
+                            height as u16,
+                            indices,
+                            None,
+                        );
+                        frame.delay = delays[frame_number];
                         Ok(frame)
                     })
                     .collect();
-                for fr in encoded {
-                    enc.write_frame(&fr?).map_err(gif_err)?;
+                for frame in encoded {
+                    encoder.write_frame(&frame?).map_err(gif_err)?;
                 }
             }
             Ok(())
@@ -564,7 +578,7 @@ fn write_gif(
             io::Error::other(msg)
         })
     });
-    match (r, failure) {
+    match (written, failure) {
         (Ok(()), _) => Ok(()),
         (Err(_), Some(e)) => Err(e),
         (Err(e), None) => Err(FilmError::Io {

@@ -148,6 +148,7 @@ pub fn write_atomic_io(
     Ok(())
 }
 
+/// The sRGB transfer curve of a linear value in 0…1.
 fn srgb(v: f32) -> f32 {
     if v <= 0.003_130_8 {
         12.92 * v
@@ -156,18 +157,30 @@ fn srgb(v: f32) -> f32 {
     }
 }
 
-/// Convert one linear value to a code of `max` (255 or 65535).
-fn code(v: f32, o: &WriteOptions, max: f32) -> u16 {
+/// Convert one linear value to a code of `max` (255 or 65535), quantised
+/// to `levels` first when given.
+fn code(v: f32, levels: Option<u32>, encoding: Encoding, max: f32) -> u16 {
     let mut v = v.clamp(0.0, 1.0);
-    if let Some(l) = o.levels {
-        let l = l.max(2) as f32 - 1.0;
-        v = (v * l).round() / l;
+    if let Some(levels) = levels {
+        let top = levels.max(2) as f32 - 1.0;
+        v = (v * top).round() / top;
     }
-    if o.encoding == Encoding::Srgb {
+    if encoding == Encoding::Srgb {
         v = srgb(v);
     }
     // Round half up; the value is non-negative, so this equals round().
     (v * max + 0.5) as u16
+}
+
+/// Linear RGB values (row-major from the top left) as an 8-bit picture in
+/// `encoding`, coded as [`write_image`] codes them: a film's frames are
+/// the same as stills of the same view.
+pub fn to_rgb8(width: u32, height: u32, rgb: &[[f32; 3]], encoding: Encoding) -> image::RgbImage {
+    let mut picture = image::RgbImage::new(width, height);
+    for (pixel, linear) in picture.pixels_mut().zip(rgb) {
+        pixel.0 = linear.map(|v| code(v, None, encoding, 255.0) as u8);
+    }
+    picture
 }
 
 /// The channels to write for each pixel, as linear floats.
@@ -192,13 +205,13 @@ pub fn write_image(
     path: &Path,
     format: ImageFormat,
     px: &Pixels,
-    o: &WriteOptions,
+    opts: &WriteOptions,
 ) -> Result<(), WriteError> {
-    let (nc, vals) = channels(px, o);
+    let (channel_count, values) = channels(px, opts);
     match format {
         ImageFormat::Png => {
             use image::ExtendedColorType as C;
-            let color = match (nc, o.sixteen_bit) {
+            let colour_type = match (channel_count, opts.sixteen_bit) {
                 (1, false) => C::L8,
                 (2, false) => C::La8,
                 (3, false) => C::Rgb8,
@@ -208,74 +221,76 @@ pub fn write_image(
                 (3, true) => C::Rgb16,
                 _ => C::Rgba16,
             };
-            let bytes: Vec<u8> = if o.sixteen_bit {
+            let bytes: Vec<u8> = if opts.sixteen_bit {
                 // The alpha channel is never quantised or encoded.
-                vals.iter()
+                values
+                    .iter()
                     .enumerate()
-                    .flat_map(|(i, v)| {
-                        let a = o.alpha && i % nc == nc - 1;
-                        let c = if a {
+                    .flat_map(|(index, v)| {
+                        let is_alpha = opts.alpha && index % channel_count == channel_count - 1;
+                        let code16 = if is_alpha {
                             (v.clamp(0.0, 1.0) * 65535.0).round() as u16
                         } else {
-                            code(*v, o, 65535.0)
+                            code(*v, opts.levels, opts.encoding, 65535.0)
                         };
-                        c.to_ne_bytes()
+                        code16.to_ne_bytes()
                     })
                     .collect()
             } else {
-                vals.iter()
+                values
+                    .iter()
                     .enumerate()
-                    .map(|(i, v)| {
-                        let a = o.alpha && i % nc == nc - 1;
-                        if a {
+                    .map(|(index, v)| {
+                        let is_alpha = opts.alpha && index % channel_count == channel_count - 1;
+                        if is_alpha {
                             (v.clamp(0.0, 1.0) * 255.0).round() as u8
                         } else {
-                            code(*v, o, 255.0) as u8
+                            code(*v, opts.levels, opts.encoding, 255.0) as u8
                         }
                     })
                     .collect()
             };
             write_atomic(path, |w| {
                 let enc = image::codecs::png::PngEncoder::new(w);
-                image::ImageEncoder::write_image(enc, &bytes, px.width, px.height, color)
+                image::ImageEncoder::write_image(enc, &bytes, px.width, px.height, colour_type)
                     .map_err(std::io::Error::other)
             })
         }
         ImageFormat::Pnm => {
-            if o.alpha {
+            if opts.alpha {
                 return Err(WriteError::Unsupported(
                     "PGM/PPM cannot hold an alpha channel; use PNG".into(),
                 ));
             }
-            let max = if o.sixteen_bit { 65535.0 } else { 255.0 };
+            let max = if opts.sixteen_bit { 65535.0 } else { 255.0 };
             write_atomic(path, |w| {
                 write!(
                     w,
                     "{}\n{} {}\n{}\n",
-                    if nc == 1 { "P5" } else { "P6" },
+                    if channel_count == 1 { "P5" } else { "P6" },
                     px.width,
                     px.height,
                     max as u32
                 )?;
-                let mut buf = Vec::with_capacity(vals.len() * 2);
-                for v in &vals {
-                    let c = code(*v, o, max);
-                    if o.sixteen_bit {
-                        buf.extend_from_slice(&c.to_be_bytes());
+                let mut buf = Vec::with_capacity(values.len() * 2);
+                for v in &values {
+                    let value = code(*v, opts.levels, opts.encoding, max);
+                    if opts.sixteen_bit {
+                        buf.extend_from_slice(&value.to_be_bytes());
                     } else {
-                        buf.push(c as u8);
+                        buf.push(value as u8);
                     }
                 }
                 w.write_all(&buf)
             })
         }
         ImageFormat::Pfm => {
-            if o.alpha {
+            if opts.alpha {
                 return Err(WriteError::Unsupported(
                     "PFM cannot hold an alpha channel; use PNG".into(),
                 ));
             }
-            write_pfm(path, px.width, px.height, nc, &vals)
+            write_pfm(path, px.width, px.height, channel_count, &values)
         }
     }
 }
@@ -374,6 +389,34 @@ mod tests {
         assert_eq!(img.get_pixel(1, 1).0[0], 65);
         // No temporary file is left behind.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn film_frames_are_coded_as_stills() {
+        let rgb = [[0.0f32, 0.5, 1.0], [0.002, 0.2, 7.0]];
+        let linear = to_rgb8(2, 1, &rgb, Encoding::Linear);
+        assert_eq!(linear.get_pixel(0, 0).0, [0, 128, 255]);
+        assert_eq!(linear.get_pixel(1, 0).0, [1, 51, 255]);
+        let encoded = to_rgb8(2, 1, &rgb, Encoding::Srgb);
+        // sRGB: 0.5 → 0.7354 → 188; 0.002 on the straight part → 0.0258 → 7.
+        assert_eq!(encoded.get_pixel(0, 0).0, [0, 188, 255]);
+        assert_eq!(encoded.get_pixel(1, 0).0[0], 7);
+        // The same codes as an 8-bit PPM written from the same values.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.ppm");
+        let px = Pixels {
+            width: 2,
+            height: 1,
+            rgb: &rgb,
+            alpha: None,
+        };
+        let opts = WriteOptions {
+            encoding: Encoding::Srgb,
+            ..Default::default()
+        };
+        write_image(&path, ImageFormat::Pnm, &px, &opts).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[bytes.len() - 6..], encoded.as_raw().as_slice());
     }
 
     #[test]

@@ -10,6 +10,6 @@ pub mod film;
 pub mod images;
 
 pub use images::{
-    write_atomic, write_image, write_pfm, write_region_png, Encoding, ImageFormat, Pixels,
+    to_rgb8, write_atomic, write_image, write_pfm, write_region_png, Encoding, ImageFormat, Pixels,
     WriteError, WriteOptions,
 };

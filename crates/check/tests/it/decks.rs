@@ -1,20 +1,22 @@
 //! The real decks in ../shared/decks: what the check finds there (see
-//! docs/checking.md). Skipped when the folder is absent.
+//! docs/checking.md). They fail when the folder is missing (see
+//! `sv_testdata`).
 
 use std::path::{Path, PathBuf};
 use sv_check::{check, CheckOptions, Model, Report, Universe, UniverseChoice};
 use sv_formats::{load_file, LoadOptions};
 
+/// The shared deck `folder/file`; `None` only when the shared decks are
+/// missing and `SV_SKIP_SHARED=1` is set.
 fn deck(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/decks")
-        .join(rel);
-    if p.is_file() {
-        Some(p)
-    } else {
-        eprintln!("skipped: {} is not present", p.display());
-        None
-    }
+    let (folder, file) = rel.rsplit_once('/').expect("a path folder/file");
+    let path = sv_testdata::shared_decks(folder)?.join(file);
+    assert!(
+        path.is_file(),
+        "the shared deck {} is missing",
+        path.display()
+    );
+    Some(path)
 }
 
 fn run(p: &Path, strict_air: bool) -> (Model, Report) {

@@ -262,6 +262,43 @@ fn pictures_mark_pixels_that_see_an_overlap() {
 }
 
 #[test]
+fn a_cameras_picture_is_painted_where_it_sees_an_overlap() {
+    let m = model(SPHERES, UniverseChoice::None);
+    // Looking down -z at the middle of the lens A and B share.
+    let camera = sv_scene::Camera::looking_at(
+        DVec3::new(0.75, 0.0, 10.0),
+        DVec3::new(0.75, 0.0, 0.0),
+        DVec3::Y,
+        sv_scene::Lens::Fov { vertical_deg: 60.0 },
+    );
+    let seen = sv_check::camera_overlaps(&m, &camera, 9, 9, false);
+    let centre = 4 * 9 + 4;
+    assert!(seen.mask[centre] && !seen.mask[0]);
+    let mut rgb = vec![[0.25f32; 3]; 81];
+    let mut alpha = vec![0.0f32; 81];
+    seen.paint(&mut rgb, &mut alpha);
+    assert_eq!(
+        (rgb[centre], alpha[centre]),
+        (sv_check::OVERLAP_COLOUR, 1.0)
+    );
+    assert_eq!((rgb[0], alpha[0]), ([0.25; 3], 0.0));
+    let pixels = seen.mask.iter().filter(|m| **m).count();
+    assert_eq!(
+        seen.summary(),
+        format!(
+            "overlaps seen (1 pairs, magenta):\n  A × B: {pixels} pixels, longest {:.6}\n",
+            seen.pairs[0].max_length
+        )
+    );
+    let apart = model(
+        "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION A = +a\nREGION B = +b\n",
+        UniverseChoice::None,
+    );
+    let none = sv_check::camera_overlaps(&apart, &camera, 9, 9, false);
+    assert_eq!(none.summary(), "overlaps: none seen\n");
+}
+
+#[test]
 fn default_spacing_follows_the_model_shape() {
     // A long thin rod gets as many rays as a cube would, not 200 along its
     // length and 2 across.

@@ -183,6 +183,7 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         Some(scene) if r.errors.is_empty() => Ok(Loaded {
             scene,
             warnings: r.warnings,
+            format: crate::Format::Comgeom,
         }),
         _ => {
             if r.suppressed > 0 {

@@ -186,6 +186,7 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
     Ok(Loaded {
         scene: r.scene(),
         warnings: r.warnings,
+        format: crate::Format::Fluka,
     })
 }
 

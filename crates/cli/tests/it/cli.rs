@@ -1,28 +1,13 @@
 //! The `synthavision` binary as a user runs it: exit codes, outputs, and
 //! no partial files on bad input.
 
+use crate::{examples, sv};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn sv(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_synthavision"))
-        .args(args)
-        .output()
-        .expect("run synthavision")
-}
-
-fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
-
+/// The shared COMGEOM decks; `None` only when they are missing and
+/// `SV_SKIP_SHARED=1` is set.
 fn decks() -> Option<PathBuf> {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks/comgeom");
-    if d.is_dir() {
-        Some(d)
-    } else {
-        eprintln!("skipped: {} is not present", d.display());
-        None
-    }
+    sv_testdata::shared_decks("comgeom")
 }
 
 #[test]
@@ -63,6 +48,10 @@ fn bad_input_exits_2_names_the_place_and_writes_nothing() {
     assert!(err.contains("bad.sv:2:8"), "{err}");
     assert!(err.contains("did you mean `SPH`?"), "{err}");
     assert!(
+        err.ends_with("\n1 error found; nothing was written\n"),
+        "{err}"
+    );
+    assert!(
         !out.exists(),
         "no picture may be written from a scene with errors"
     );
@@ -70,6 +59,28 @@ fn bad_input_exits_2_names_the_place_and_writes_nothing() {
         std::fs::read_dir(dir.path()).unwrap().count(),
         1,
         "no temporary file is left"
+    );
+}
+
+#[test]
+fn every_error_is_listed_and_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("two.sv");
+    std::fs::write(
+        &scene,
+        "BODY 1 SPH 0 0 0 1\nBODY 2 SHP 0 0 0 1\nBODY 3 SHQ 0 0 0 1\nREGION a = +1\n",
+    )
+    .unwrap();
+    let o = sv(&["info", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("two.sv:2:8") && err.contains("two.sv:3:8"),
+        "{err}"
+    );
+    assert!(
+        err.ends_with("\n2 errors found; nothing was written\n"),
+        "{err}"
     );
 }
 

@@ -2,24 +2,14 @@
 //! issue's "renders a non-empty picture"), framed automatically even when
 //! its regions are bounded only by planes and infinite cylinders.
 
-use std::path::Path;
 use sv_formats::{load_file, LoadOptions};
 use sv_render::{Renderer, Settings};
 
 #[test]
 fn every_fluka_test_input_renders_a_non_empty_picture() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/decks/fluka/pyg4ometry-testdata");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is not present", dir.display());
+    let Some(files) = sv_testdata::shared_files("fluka/pyg4ometry-testdata", &[".inp"]) else {
         return;
-    }
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "inp"))
-        .collect();
-    files.sort();
+    };
     assert!(files.len() >= 80, "the test set has {} inputs", files.len());
     let mut empty = Vec::new();
     for f in &files {

@@ -2,26 +2,21 @@
 //! structures (hierarchy, tile lists, light buffer, shadow cache) and
 //! without them, in sunlight and under a lamp, on 1 and 2 threads.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use sv_formats::{load_file, LoadOptions};
 use sv_render::{Frame, Renderer, Settings};
 use sv_scene::{Light, LightKind};
 use sv_trace::PrepareOptions;
 
-fn decks() -> Vec<PathBuf> {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks");
-    let mut files = Vec::new();
-    for (dir, ext) in [("comgeom", "cg"), ("fluka/pyg4ometry-testdata", "inp")] {
-        let Ok(rd) = std::fs::read_dir(shared.join(dir)) else {
-            continue;
-        };
-        files.extend(
-            rd.map(|e| e.unwrap().path())
-                .filter(|p| p.extension().is_some_and(|e| e == ext)),
-        );
-    }
-    files.sort();
-    files
+/// The shared COMGEOM decks and FLUKA test inputs; `None` only when they
+/// are missing and `SV_SKIP_SHARED=1` is set.
+fn decks() -> Option<Vec<PathBuf>> {
+    let mut files = sv_testdata::shared_files("comgeom", &[".cg"])?;
+    files.extend(sv_testdata::shared_files(
+        "fluka/pyg4ometry-testdata",
+        &[".inp"],
+    )?);
+    Some(files)
 }
 
 fn render(r: &Renderer, threads: usize) -> Frame {
@@ -54,11 +49,9 @@ fn differing(a: &Frame, b: &Frame) -> usize {
 
 #[test]
 fn every_deck_renders_the_same_with_and_without_acceleration() {
-    let files = decks();
-    if files.is_empty() {
-        eprintln!("skipped: the shared decks are not present");
+    let Some(files) = decks() else {
         return;
-    }
+    };
     let mut compared = 0;
     for f in &files {
         // The fragment file of the FLUKA set is not a whole input.

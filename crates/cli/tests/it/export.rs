@@ -1,25 +1,10 @@
 //! `synthavision export`: POV-Ray and native output, errors exit 2.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_synthavision"))
-}
-
-fn examples() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sv-export-test-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
-}
+use crate::{bin, examples, fresh_dir};
 
 #[test]
 fn exports_pov_with_the_renderers_camera_and_light() {
-    let out = tmp("fig1.pov");
+    let out = fresh_dir("export_pov").join("fig1.pov");
     let st = bin()
         .arg("export")
         .arg(examples().join("figure1/figure1.sv"))
@@ -37,9 +22,10 @@ fn exports_pov_with_the_renderers_camera_and_light() {
 
 #[test]
 fn a_scene_without_camera_or_light_gets_the_default_framing() {
-    let src = tmp("bare.sv");
+    let dir = fresh_dir("export_bare");
+    let src = dir.join("bare.sv");
     std::fs::write(&src, "BODY 1 SPH (0,0,0) 1\nREGION A = +1\n").unwrap();
-    let out = tmp("bare.pov");
+    let out = dir.join("bare.pov");
     let st = bin()
         .arg("export")
         .arg(&src)
@@ -55,7 +41,7 @@ fn a_scene_without_camera_or_light_gets_the_default_framing() {
 
 #[test]
 fn exports_the_scene_language_and_it_reads_back() {
-    let out = tmp("heli.sv");
+    let out = fresh_dir("export_sv").join("heli.sv");
     let st = bin()
         .arg("export")
         .arg(examples().join("helicopter/helicopter.sv"))
@@ -72,9 +58,10 @@ fn exports_the_scene_language_and_it_reads_back() {
 
 #[test]
 fn bad_input_exits_2_and_writes_nothing() {
-    let src = tmp("bad.sv");
+    let dir = fresh_dir("export_bad");
+    let src = dir.join("bad.sv");
     std::fs::write(&src, "BODY 1 SPH (0,0,0) -1\nREGION A = +1\n").unwrap();
-    let out = tmp("bad.pov");
+    let out = dir.join("bad.pov");
     let o = bin()
         .arg("export")
         .arg(&src)

@@ -1,15 +1,7 @@
 //! `synthavision film` end to end: a short script, a full run, a range
 //! rendered on its own, and a resumed run.
 
-use std::path::Path;
-use std::process::Command;
-
-fn sv(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_synthavision"))
-        .args(args)
-        .output()
-        .expect("run synthavision")
-}
+use crate::{examples, sv};
 
 const SCRIPT: &str = r#"# A sphere-and-cylinder region flies past and turns.
 SCENE "SCENE_PATH"
@@ -28,7 +20,7 @@ HOLD 3
 #[test]
 fn a_range_alone_equals_the_full_run_and_reruns_resume() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/figure1/figure1.sv");
+    let scene = examples().join("figure1/figure1.sv");
     let script = dir.path().join("f.svs");
     std::fs::write(
         &script,
@@ -87,7 +79,7 @@ fn a_range_alone_equals_the_full_run_and_reruns_resume() {
 #[test]
 fn a_script_with_errors_renders_nothing_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/figure1/figure1.sv");
+    let scene = examples().join("figure1/figure1.sv");
     let script = dir.path().join("bad.svs");
     std::fs::write(
         &script,
@@ -105,10 +97,11 @@ fn a_script_with_errors_renders_nothing_and_exits_2() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("HELICOPTER"), "{err}");
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("HELICOPTER"),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
+        err.ends_with("\n1 error found; no frame was rendered\n"),
+        "{err}"
     );
     assert!(
         !out.exists() || std::fs::read_dir(&out).unwrap().count() == 0,

@@ -1,33 +1,11 @@
 //! Exit codes and outputs of `check`, `slice`, `volume` and
 //! `render --overlaps`, run on the built binary.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_synthavision"))
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn write(d: &std::path::Path, name: &str, text: &str) -> PathBuf {
-    let p = d.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+use crate::{bin, fresh_dir as dir, run, write};
 
 const OVERLAP: &str =
     "BODY a SPH (0,0,0) 1\nBODY b SPH (1.5,0,0) 1\nREGION A = +a\nREGION B = +b\n";
 const CLEAN: &str = "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION A = +a\nREGION B = +b\n";
-
-fn run(c: &mut Command) -> Output {
-    c.output().expect("binary runs")
-}
 
 #[test]
 fn check_exit_status_gates_pipelines() {
@@ -173,4 +151,59 @@ fn render_paints_overlaps() {
     assert!(err.contains("A × B"), "{err}");
     let img = image::open(&out).unwrap().into_rgb8();
     assert!(img.pixels().any(|p| p.0 == [255, 0, 255]));
+}
+
+/// A FLUKA input: a beryllium sphere and a vacuum sphere overlapping
+/// inside a black hole.
+const FLUKA_VACUUM_OVERLAP: &str =
+    "GEOBEGIN                                                              COMBNAME
+    0    0
+RPP blackhole  -200. 200. -200. 200. -200. 200.
+SPH solid      0.0 0.0 0.0 50.
+SPH gas        60.0 0.0 0.0 50.
+END
+blackhole    5 +blackhole -solid -gas
+SOLID        5 +solid
+GAS          5 +gas
+END
+GEOEND
+ASSIGNMA    BLCKHOLE blackhole
+ASSIGNMA    BERYLLIU     SOLID
+ASSIGNMA      VACUUM       GAS
+";
+
+#[test]
+fn fluka_inputs_count_overlaps_with_vacuum() {
+    let d = dir("fluka_vacuum");
+    // Named .dat, so the format is known from the text alone.
+    let deck = write(&d, "vacuum.dat", FLUKA_VACUUM_OVERLAP);
+    let o = run(bin().args(["check", "--json"]).arg(&deck));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(report["overlaps"][0]["regions"][0], "SOLID");
+    assert_eq!(report["overlaps"][0]["regions"][1], "GAS");
+    assert_eq!(report["air_overlaps"].as_array().unwrap().len(), 0);
+    let o = run(bin()
+        .args(["render", "--overlaps", "--size", "32x24", "-o"])
+        .arg(d.join("r.png"))
+        .arg(&deck));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("SOLID × GAS"), "{err}");
+    let o = run(bin()
+        .args(["slice", "--plane", "z=0", "--json", "--size", "80x60", "-o"])
+        .arg(d.join("s.png"))
+        .arg(&deck));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let legend: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(legend["overlaps"][0]["label"], "SOLID × GAS");
 }

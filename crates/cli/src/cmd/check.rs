@@ -1,0 +1,126 @@
+//! `synthavision check`: overlaps and voids, with an exit status for
+//! pipelines (1 when any are found).
+
+use crate::args::{InputArgs, UniverseArgs};
+use crate::cmd::{check_error, emit};
+use crate::error::{bad_input, CliError};
+use crate::load::load;
+use crate::parse::parse_numbers;
+use crate::view::thread_pool;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use sv_check::{CheckOptions, Model, UniverseChoice};
+use sv_math::{Aabb, DVec3};
+use sv_scene::Scene;
+
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// Scene, deck or FLUKA input.
+    pub scene: PathBuf,
+    /// Distance between grid rays (model units; default: about 120 000
+    /// rays in all, as a cube with 200 rays per side).
+    #[arg(long, value_name = "D")]
+    pub spacing: Option<f64>,
+    /// Extra rays in random directions.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub random: u64,
+    /// Fire the rays through this box instead of the model's bounds (look
+    /// closely at a part; needed when no region is finite).
+    #[arg(
+        long = "box",
+        value_name = "X0,Y0,Z0,X1,Y1,Z1",
+        allow_hyphen_values = true
+    )]
+    pub bounds: Option<String>,
+    /// Seed of the random rays.
+    #[arg(long, default_value_t = 1971)]
+    pub seed: u64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Count overlaps with air regions (non-zero air code) as problems too
+    /// (always so for FLUKA inputs).
+    #[arg(long)]
+    pub strict_air: bool,
+    #[command(flatten)]
+    pub check: UniverseArgs,
+    #[command(flatten)]
+    pub input: InputArgs,
+}
+
+/// The model to check with `--universe`/`--no-universe`, after checking
+/// `--tolerance`.
+pub fn model(scene: &Scene, universe: &UniverseArgs) -> Result<Model, CliError> {
+    let choice = match (&universe.universe, universe.no_universe) {
+        (_, true) => UniverseChoice::None,
+        (Some(name), false) => UniverseChoice::Named(name.clone()),
+        (None, false) => UniverseChoice::Auto,
+    };
+    if let Some(tolerance) = universe.tolerance {
+        if !(tolerance >= 0.0 && tolerance.is_finite()) {
+            return Err(bad_input(format!(
+                "--tolerance must be zero or more, found {tolerance}"
+            )));
+        }
+    }
+    let (model, warnings) = Model::new(scene, &choice).map_err(check_error)?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(model)
+}
+
+/// Run `check`.
+pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
+    let input = load(Some(&args.scene), &args.input)?;
+    let model = model(&input.scene, &args.check)?;
+    if let Some(spacing) = args.spacing {
+        if !(spacing > 0.0 && spacing.is_finite()) {
+            return Err(bad_input(format!(
+                "--spacing must be positive, found {spacing}"
+            )));
+        }
+    }
+    let bounds = args.bounds.as_deref().map(parse_box).transpose()?;
+    let opts = CheckOptions {
+        bounds,
+        spacing: args.spacing,
+        tolerance: args.check.tolerance,
+        random: args.random,
+        seed: args.seed,
+        strict_air: args.strict_air || input.strict_air(),
+        ..Default::default()
+    };
+    let report = thread_pool(args.check.threads)?
+        .install(|| sv_check::check(&model, &opts))
+        .map_err(check_error)?;
+    if args.json {
+        emit(&format!("{}\n", report.to_json()));
+    } else {
+        emit(&report.to_table());
+    }
+    Ok(if report.is_clean() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// `--box X0,Y0,Z0,X1,Y1,Z1`.
+fn parse_box(text: &str) -> Result<Aabb, CliError> {
+    let bad = || {
+        bad_input(format!(
+            "--box: expected six numbers X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, found `{text}`"
+        ))
+    };
+    let numbers = parse_numbers(text).ok_or_else(bad)?;
+    match numbers[..] {
+        [x0, y0, z0, x1, y1, z1]
+            if numbers.iter().all(|x| x.is_finite()) && x0 < x1 && y0 < y1 && z0 < z1 =>
+        {
+            Ok(Aabb::new(DVec3::new(x0, y0, z0), DVec3::new(x1, y1, z1)))
+        }
+        _ => Err(bad()),
+    }
+}

@@ -1,0 +1,77 @@
+//! `synthavision export`: write a scene as a POV-Ray scene or in the native
+//! scene language.
+
+use crate::args::{InputArgs, ViewArgs};
+use crate::error::{bad_input, runtime, CliError};
+use crate::load::load;
+use crate::view::{renderer, size};
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Output formats of `export`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// POV-Ray 3.7 scene.
+    Pov,
+    /// SynthaVision scene language.
+    Sv,
+}
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// Scene, deck or FLUKA input.
+    pub scene: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Output file.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub input: InputArgs,
+    #[command(flatten)]
+    pub view: ViewArgs,
+}
+
+/// Run `export`. The camera and lights written to a POV-Ray scene are the
+/// ones `render` would use with the same options (the default framing and
+/// light when the scene has none); a native scene gets them only when view
+/// options are given.
+pub fn export(args: ExportArgs) -> Result<ExitCode, CliError> {
+    let mut scene = load(Some(&args.scene), &args.input)?.scene;
+    let (width, height) = size(&args.view, &scene)?;
+    let view = &args.view;
+    let view_given = view.ortho
+        || view.az.is_some()
+        || view.el.is_some()
+        || view.eye.is_some()
+        || view.at.is_some()
+        || view.fov.is_some()
+        || view.eye_light;
+    if args.format == ExportFormat::Pov || view_given {
+        let renderer = renderer(&scene, view, width, height)?;
+        scene.camera = Some(renderer.camera);
+        scene.lights = renderer.lights.clone();
+        if view.eye_light {
+            scene.ambient = 0.0;
+        }
+    }
+    if view.no_shadows {
+        scene.shadows = false;
+    }
+    if view.size.is_some() {
+        scene.size = Some((width, height));
+    }
+    let text = match args.format {
+        ExportFormat::Pov => sv_formats::pov::write(&scene, width, height).map_err(|e| {
+            bad_input(format!(
+                "cannot write `{}` for POV-Ray:\n{e}",
+                args.scene.display()
+            ))
+        })?,
+        ExportFormat::Sv => sv_formats::native::write(&scene),
+    };
+    sv_output::write_atomic(&args.output, |f| f.write_all(text.as_bytes())).map_err(runtime)?;
+    Ok(ExitCode::SUCCESS)
+}

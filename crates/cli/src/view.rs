@@ -1,0 +1,138 @@
+//! What the picture-making commands share: the raster size, the renderer
+//! with the view options applied, the worker threads and the progress bar.
+
+use crate::args::ViewArgs;
+use crate::error::{bad_input, runtime, CliError};
+use crate::parse::{parse_size, parse_vec3};
+use sv_render::{default_camera, Frame, Renderer, Settings};
+use sv_scene::{Lens, Light, LightKind, Scene};
+
+/// Raster size from `--size`, the scene, or 960×720.
+pub fn size(view: &ViewArgs, scene: &Scene) -> Result<(u32, u32), CliError> {
+    match &view.size {
+        Some(text) => parse_size(text, 65536),
+        None => Ok(scene.size.unwrap_or((960, 720))),
+    }
+}
+
+/// Prepare the renderer and apply the view options.
+pub fn renderer(
+    scene: &Scene,
+    view: &ViewArgs,
+    width: u32,
+    height: u32,
+) -> Result<Renderer, CliError> {
+    let aspect = width as f64 / height as f64;
+    let (mut renderer, warnings) =
+        Renderer::new(scene, aspect).map_err(|e| CliError::Input(format!("error: {e}")))?;
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+    let reframe = view.ortho || view.az.is_some() || view.el.is_some();
+    if reframe || (view.eye.is_some() || view.at.is_some()) {
+        let mut camera = if reframe || scene.camera.is_none() {
+            default_camera(
+                renderer.prepared(),
+                aspect,
+                view.az.unwrap_or(35.0),
+                view.el.unwrap_or(25.0),
+                view.ortho,
+            )
+        } else {
+            renderer.camera
+        };
+        match (&view.eye, &view.at) {
+            (Some(eye), Some(at)) => {
+                let (eye, at) = (parse_vec3(eye, "--eye")?, parse_vec3(at, "--at")?);
+                if eye == at {
+                    return Err(bad_input("--eye and --at are the same point"));
+                }
+                camera.eye = eye;
+                camera.dir = at - eye;
+            }
+            (None, None) => {}
+            _ => return Err(bad_input("--eye and --at go together")),
+        }
+        renderer.camera = camera;
+    }
+    if let Some(fov) = view.fov {
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(bad_input(format!(
+                "--fov must lie between 0 and 180 degrees, found {fov}"
+            )));
+        }
+        renderer.camera.lens = Lens::Fov { vertical_deg: fov };
+    }
+    if view.eye_light {
+        renderer.lights = vec![Light {
+            name: "EYE".into(),
+            kind: LightKind::Parallel {
+                dir: renderer.camera.dir,
+            },
+            intensity: 1.0,
+            colour: [1.0; 3],
+        }];
+        renderer.set_ambient(0.0);
+    } else if scene.lights.is_empty() && (reframe || view.eye.is_some()) {
+        renderer.lights = sv_render::default_lights(&renderer.camera);
+    }
+    Ok(renderer)
+}
+
+/// The worker threads. The calling thread is one of them, so a picture
+/// begins at once on the thread that asks for it instead of waiting for a
+/// sleeping worker to be woken (BENCHMARKS.md).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError> {
+    let mut builder = rayon::ThreadPoolBuilder::new().use_current_thread();
+    if let Some(count) = threads {
+        if count == 0 {
+            return Err(bad_input("--threads must be at least 1"));
+        }
+        builder = builder.num_threads(count);
+    }
+    builder
+        .build()
+        .map_err(|e| runtime(format!("cannot start threads: {e}")))
+}
+
+/// A progress bar of `len` steps drawn with `template`, when stderr is a
+/// terminal.
+pub fn progress_bar(len: u64, template: &str) -> Option<indicatif::ProgressBar> {
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    Some(bar)
+}
+
+/// Render into `frame` (its memory reused when it fits), with a progress
+/// bar of rows when asked and stderr is a terminal.
+pub fn render_frame(
+    renderer: &Renderer,
+    settings: &Settings,
+    pool: &rayon::ThreadPool,
+    show_progress: bool,
+    frame: &mut Frame,
+) {
+    let bar = show_progress
+        .then(|| {
+            progress_bar(
+                settings.height as u64,
+                "{spinner} rendering [{bar:40}] {pos}/{len} rows {elapsed_precise} ETA {eta}",
+            )
+        })
+        .flatten();
+    let progress = |rows: usize| {
+        if let Some(bar) = &bar {
+            bar.set_position(rows as u64);
+        }
+    };
+    pool.install(|| renderer.render_into(settings, frame, &progress));
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+}

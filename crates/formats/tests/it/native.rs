@@ -150,12 +150,9 @@ fn a_deck_included_in_other_units_is_scaled_into_the_scene() {
 
 #[test]
 fn two_decks_in_different_units_share_one_scene() {
-    let decks =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks/comgeom");
-    if !decks.is_dir() {
-        eprintln!("skipped: {} is not present", decks.display());
+    let Some(decks) = sv_testdata::shared_decks("comgeom") else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let main = dir.path().join("both.sv");
     std::fs::write(

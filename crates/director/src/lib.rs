@@ -629,7 +629,13 @@ fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
             focal: lerp(f0, focal, f),
             film_height,
         },
-        (Zoom::Focal { focal, film_height }, Lens::Fov { .. }) => {
+        (
+            Zoom::Focal {
+                focal,
+                film_height: Some(film_height),
+            },
+            Lens::Fov { .. },
+        ) => {
             let f0 = film_height / (2.0 * c.tan_half_fov());
             Lens::Focal {
                 focal: lerp(f0, focal, f),
@@ -639,8 +645,10 @@ fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
         (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho {
             height: lerp(height, h1, f),
         },
-        // A perspective setting on an orthographic camera and the reverse
-        // are refused by the script reader; here they leave the lens alone.
+        // A perspective setting on an orthographic camera and the reverse,
+        // and a focal length without a film height for a lens given as a
+        // field of view, are refused by the script reader; here they leave
+        // the lens alone.
         (_, lens) => lens,
     }
 }

@@ -64,6 +64,18 @@ impl SourceFile {
     }
 }
 
+/// A place on one line of a file: 1-based line and column and a length,
+/// both counted in characters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Span {
+    /// Line.
+    pub line: usize,
+    /// Column (characters).
+    pub col: usize,
+    /// Length (characters).
+    pub len: usize,
+}
+
 /// One problem found in an input file.
 #[derive(Clone, Debug)]
 pub struct Diagnostic {
@@ -110,6 +122,11 @@ impl Diagnostic {
         let start = source.offset(line, column);
         let end = source.offset(line, column + len).max(start);
         Diagnostic::error(source, start, end - start, message)
+    }
+
+    /// An error at a [`Span`] (line and column 0 count as 1).
+    pub fn error_in(source: &SourceFile, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic::error_at(source, span.line.max(1), span.col.max(1), span.len, message)
     }
 
     /// The same diagnostic as a warning.

@@ -26,7 +26,7 @@ fn region(name: &str, bodies: &[usize]) -> Region {
 }
 
 /// fuselage (sphere at (1,0,2)), hub, blade, ground; SUN and LAMP; a camera.
-fn scene() -> Scene {
+pub(super) fn scene() -> Scene {
     let mut s = Scene::default();
     s.geometry.bodies = vec![
         Body::new("f", BodyKind::Sph, vec![1.0, 0.0, 2.0, 1.0]),
@@ -73,23 +73,23 @@ fn scene() -> Scene {
     s
 }
 
-const HEADER: &str = "SCENE \"heli.sv\"
+pub(super) const HEADER: &str = "SCENE \"heli.sv\"
 OBJECT ROTOR REGIONS hub blade
 OBJECT HELICOPTER REGIONS fuselage CONTAINS ROTOR
 AXIS 1 POINT (1,0,0) DIR (0,0,1) ON HELICOPTER
 AXIS MAST POINT (0,0,0) DIR (0,0,1) ON HELICOPTER
 ";
 
-fn build(text: &str, scene: &Scene) -> Result<Timeline, String> {
+pub(super) fn build(text: &str, scene: &Scene) -> Result<Timeline, String> {
     let src = SourceFile::new("film.svs", text);
     build_timeline(&src, scene).map_err(|d| d.render_plain())
 }
 
-fn errors(text: &str) -> String {
+pub(super) fn errors(text: &str) -> String {
     errors_in(text, &scene())
 }
 
-fn errors_in(text: &str, scene: &Scene) -> String {
+pub(super) fn errors_in(text: &str, scene: &Scene) -> String {
     match build(text, scene) {
         Ok(_) => "no error".into(),
         Err(e) => e,
@@ -114,7 +114,7 @@ fn diagnostic_expected_number() {
 #[test]
 fn diagnostic_number_missing_at_end() {
     let text = format!("{HEADER}{}\n", "MOVE HELICOPTER (1,0");
-    assert_eq!(errors(&text), "error: expected a number at the end of the line\n --> film.svs:6:21\n  |\n6 | MOVE HELICOPTER (1,0\n  |                     ^\n");
+    assert_eq!(errors(&text), "error: expected a number, found the end of the line\n --> film.svs:6:21\n  |\n6 | MOVE HELICOPTER (1,0\n  |                     ^\n");
 }
 
 #[test]
@@ -126,7 +126,7 @@ fn diagnostic_expected_paren() {
 #[test]
 fn diagnostic_unexpected_after() {
     let text = format!("{HEADER}{}\n", "SHOOT 2 FRAMES");
-    assert_eq!(errors(&text), "error: unexpected `FRAMES` after the command\n --> film.svs:6:9\n  |\n6 | SHOOT 2 FRAMES\n  |         ^^^^^^\n");
+    assert_eq!(errors(&text), "error: unexpected `FRAMES` at the end of the statement\n --> film.svs:6:9\n  |\n6 | SHOOT 2 FRAMES\n  |         ^^^^^^\n");
 }
 
 #[test]
@@ -264,7 +264,7 @@ fn diagnostic_not_a_command() {
 #[test]
 fn diagnostic_contains_nothing() {
     let text = format!("{HEADER}{}\n", "OBJECT TAIL REGIONS ground CONTAINS");
-    assert_eq!(errors(&text), "error: expected an object name at the end of the line\n --> film.svs:6:36\n  |\n6 | OBJECT TAIL REGIONS ground CONTAINS\n  |                                    ^\n");
+    assert_eq!(errors(&text), "error: expected an object name, found the end of the line\n --> film.svs:6:36\n  |\n6 | OBJECT TAIL REGIONS ground CONTAINS\n  |                                    ^\n");
 }
 
 #[test]
@@ -413,7 +413,7 @@ fn a_broken_declaration_is_reported_once() {
         heads,
         [
             "error: expected a number, found `x`",
-            "error: expected an object name at the end of the line"
+            "error: expected an object name, found the end of the line"
         ]
     );
 }

@@ -387,7 +387,7 @@ fn zoom_converts_a_field_of_view_to_a_focal_length() {
     let t = timeline(vec![over(
         Change::Zoom(Zoom::Focal {
             focal: 50.0,
-            film_height: 24.0,
+            film_height: Some(24.0),
         }),
         2,
     )]);

@@ -79,6 +79,9 @@ fn camera_and_light_rules() {
         errors("CAMERA ORTHO EYE (0,0,5) AT (0,0,0)\n").contains("an ORTHO camera needs HEIGHT")
     );
     assert!(errors("LIGHT L POINT INTENSITY 3\n").contains("a POINT light needs AT (its position)"));
+    // As a script's INTENSITY command says.
+    assert!(errors("LIGHT L POINT AT (0,0,1) INTENSITY -3\n")
+        .contains("an intensity cannot be negative"));
     assert!(
         errors("REGION x = +1\n").contains("region `x` refers to body `1`, which is not defined")
     );

@@ -92,6 +92,23 @@ fn value_name(kind: BodyKind, i: usize) -> String {
     format!("#{}", i + 1)
 }
 
+/// Where the directives around a body put it: all expansions act first
+/// (they multiply), then all translations (they add up), then the
+/// transforms, the innermost first.
+fn placement(stack: &[Directive]) -> DAffine3 {
+    let mut factor = 1.0;
+    let mut shift = DVec3::ZERO;
+    let mut turn = DAffine3::IDENTITY;
+    for d in stack {
+        match d.kind {
+            DirKind::Expansion => factor *= d.factor,
+            DirKind::Translat => shift += d.shift,
+            DirKind::Transform => turn *= d.xf,
+        }
+    }
+    turn * DAffine3::from_translation(shift) * DAffine3::from_scale(DVec3::splat(factor))
+}
+
 /// `V(3) H(3) R` for a body type.
 fn layout(kind: BodyKind) -> String {
     kind.info()
@@ -175,7 +192,10 @@ impl Reader {
         result
     }
 
-    fn directive(&mut self, k: usize, words: &[(usize, String)], stack: &mut Vec<Directive>) {
+    /// A `$start_…` or `$end_…` line: opens a directive on `stack` (even a
+    /// faulty one, so that its `$end_…` matches) or closes the innermost of
+    /// its kind.
+    fn directive(&mut self, line: usize, words: &[(usize, String)], stack: &mut Vec<Directive>) {
         let (col, word) = (words[0].0, words[0].1.as_str());
         let len = word.chars().count();
         let lower = word.to_ascii_lowercase();
@@ -189,35 +209,37 @@ impl Reader {
             "$end_transform" => (false, DirKind::Transform),
             _ => {
                 let hint = did_you_mean(&lower, DIRECTIVES).map(|s| format!("did you mean `{s}`?"));
-                self.err(k, col, len, format!("unknown geometry directive `{word}`"))
-                    .hint = hint;
+                self.err(
+                    line,
+                    col,
+                    len,
+                    format!("unknown geometry directive `{word}`"),
+                )
+                .hint = hint;
                 return;
             }
         };
-        let want = if !start {
-            0
-        } else if kind == DirKind::Translat {
-            3
-        } else {
-            1
+        let want = match (start, kind) {
+            (false, _) => 0,
+            (true, DirKind::Translat) => 3,
+            (true, _) => 1,
         };
-        if args.len() > want {
-            let (c, w) = (args[want].0, args[want].1.as_str());
+        if let Some((extra_col, extra)) = args.get(want) {
             self.err(
-                k,
-                c,
-                w.chars().count(),
-                format!("unexpected `{w}` after `{word}`"),
+                line,
+                *extra_col,
+                extra.chars().count(),
+                format!("unexpected `{extra}` after `{word}`"),
             );
         }
         if !start {
             match stack.iter().rposition(|d| d.kind == kind) {
-                Some(p) => {
-                    stack.remove(p);
+                Some(open) => {
+                    stack.remove(open);
                 }
                 None => {
                     self.err(
-                        k,
+                        line,
                         col,
                         len,
                         format!("`{word}` without a matching `$start_{}`", kind.name()),
@@ -226,12 +248,12 @@ impl Reader {
             }
             return;
         }
-        let mut d = Directive {
+        let mut opened = Directive {
             kind,
             factor: 1.0,
             shift: DVec3::ZERO,
             xf: DAffine3::IDENTITY,
-            line: k,
+            line,
             col,
             len,
         };
@@ -241,149 +263,220 @@ impl Reader {
                 DirKind::Expansion => "a factor",
                 DirKind::Transform => "the name of a ROT-DEFI transformation",
             };
-            self.err(k, col, len, format!("`{word}` needs {what}"));
-            stack.push(d);
-            return;
-        }
-        match kind {
-            DirKind::Translat => {
-                let mut v = [0.0; 3];
-                for (i, (c, w)) in args.iter().take(3).enumerate() {
-                    let (c, w) = (*c, w.as_str());
-                    match card::number(w) {
-                        Some(x) => v[i] = x,
-                        None => {
-                            self.err(
-                                k,
-                                c,
-                                w.chars().count(),
-                                format!("expected a number for `{word}`, found `{w}`"),
-                            );
-                        }
-                    }
-                }
-                d.shift = DVec3::from(v);
-            }
-            DirKind::Expansion => {
-                let (c, w) = (args[0].0, args[0].1.as_str());
-                match card::number(w) {
-                    Some(f) if f > 0.0 => d.factor = f,
-                    _ => {
-                        self.err(
-                            k,
-                            c,
-                            w.chars().count(),
-                            format!("`{word}` needs a positive factor, found `{w}`"),
-                        );
-                    }
-                }
-            }
-            DirKind::Transform => {
-                let (c, w) = (args[0].0, args[0].1.as_str());
-                let (inverse, name) = match w.strip_prefix('-') {
-                    Some(n) => (true, n),
-                    None => (false, w),
-                };
-                let key = if self.rot.contains_key(name) {
-                    Some(name.to_string())
-                } else {
-                    name.parse::<i64>()
-                        .ok()
-                        .and_then(|i| self.rot_index.get(&i).cloned())
-                };
-                match key.and_then(|k| self.rot.get(&k)) {
-                    Some(cards) => {
-                        let xf = rotdefi::compose(cards);
-                        d.xf = if inverse { xf.inverse() } else { xf };
-                    }
-                    None => {
-                        let hint = self.hint_among(name, self.rot.keys());
-                        let e = self.err(
-                            k,
-                            c,
-                            w.chars().count(),
-                            format!(
-                                "undefined transformation `{name}`: no ROT-DEFI card has this name"
-                            ),
-                        );
-                        e.hint = hint.or(Some(
-                            "define it with a ROT-DEFI card whose SDUM is the name".into(),
-                        ));
-                    }
-                }
+            self.err(line, col, len, format!("`{word}` needs {what}"));
+        } else {
+            match kind {
+                DirKind::Translat => opened.shift = self.translation(line, word, args),
+                DirKind::Expansion => opened.factor = self.expansion(line, word, &args[0]),
+                DirKind::Transform => opened.xf = self.transform(line, &args[0]),
             }
         }
-        stack.push(d);
+        stack.push(opened);
     }
 
-    fn finish_body(&mut self, p: &PendingBody, stack: &[Directive]) {
-        let (line, col, code) = (p.words[0].0, p.words[0].1, p.words[0].2.as_str());
-        let code_len = code.chars().count();
-        let Some(kind) = body_code(code) else {
-            if UNSUPPORTED_CODES
-                .iter()
-                .any(|c| c.eq_ignore_ascii_case(code))
-            {
-                let list = BODY_CODES
-                    .iter()
-                    .map(|(c, _)| *c)
-                    .collect::<Vec<_>>()
-                    .join(" ");
+    /// The shift of `$start_translat dx dy dz` (a bad number counts as 0).
+    fn translation(&mut self, line: usize, word: &str, args: &[(usize, String)]) -> DVec3 {
+        let mut shift = [0.0; 3];
+        for (axis, (col, text)) in args.iter().take(3).enumerate() {
+            match card::number(text) {
+                Some(v) => shift[axis] = v,
+                None => {
+                    self.err(
+                        line,
+                        *col,
+                        text.chars().count(),
+                        format!("expected a number for `{word}`, found `{text}`"),
+                    );
+                }
+            }
+        }
+        DVec3::from(shift)
+    }
+
+    /// The factor of `$start_expansion f` (1 when it is not a positive
+    /// number).
+    fn expansion(&mut self, line: usize, word: &str, (col, text): &(usize, String)) -> f64 {
+        match card::number(text) {
+            Some(f) if f > 0.0 => f,
+            _ => {
                 self.err(
                     line,
-                    col,
-                    code_len,
-                    format!("FLUKA body type `{code}` is not supported"),
-                )
-                .hint = Some(format!("supported body types: {list}"));
-            } else {
-                let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
-                self.err(line, col, code_len, format!("unknown body type `{code}`"))
-                    .hint = hint;
+                    *col,
+                    text.chars().count(),
+                    format!("`{word}` needs a positive factor, found `{text}`"),
+                );
+                1.0
             }
-            if let Some((_, _, name)) = p.words.get(1) {
-                self.bad_bodies.insert(name.clone());
-            }
+        }
+    }
+
+    /// The transformation `$start_transform [-]name` names (by ROT-DEFI
+    /// name or index; `-` for its inverse), or the identity when there is
+    /// none.
+    fn transform(&mut self, line: usize, (col, text): &(usize, String)) -> DAffine3 {
+        let (inverse, name) = match text.strip_prefix('-') {
+            Some(n) => (true, n),
+            None => (false, text.as_str()),
+        };
+        let key = if self.rot.contains_key(name) {
+            Some(name.to_string())
+        } else {
+            name.parse::<i64>()
+                .ok()
+                .and_then(|i| self.rot_index.get(&i).cloned())
+        };
+        if let Some(cards) = key.and_then(|k| self.rot.get(&k)) {
+            let xf = rotdefi::compose(cards);
+            return if inverse { xf.inverse() } else { xf };
+        }
+        let hint = self.hint_among(name, self.rot.keys());
+        let e = self.err(
+            line,
+            *col,
+            text.chars().count(),
+            format!("undefined transformation `{name}`: no ROT-DEFI card has this name"),
+        );
+        e.hint = hint.or(Some(
+            "define it with a ROT-DEFI card whose SDUM is the name".into(),
+        ));
+        DAffine3::IDENTITY
+    }
+
+    /// A body whose words are all read: checked, moved by the directives
+    /// around it and added, or reported.
+    fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
+        let (line, col, code) = &pending.words[0];
+        let code_len = code.chars().count();
+        let Some(kind) = self.body_kind(pending) else {
             return;
         };
         let code = code.to_ascii_uppercase();
-        let Some((nl, nc, name)) = p.words.get(1).map(|(l, c, n)| (*l, *c, n.as_str())) else {
-            self.err(line, col, code_len, format!("`{code}` body has no name"));
+        let Some(name) = self.body_name(pending, &code) else {
             return;
         };
-        if starts_numeric(name) {
-            self.err(
-                nl,
-                nc,
-                name.chars().count(),
-                format!("expected a body name after `{code}`, found `{name}`"),
-            );
-            return;
-        }
-        if !is_name(name) {
-            self.err(nl, nc, name.chars().count(), format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
+        let at = |reader: &mut Reader, msg: String| {
+            reader.err(*line, *col, code_len, msg);
+            reader.bad_bodies.insert(name.to_string());
+        };
+        let Some(params) = self.body_values(pending, kind, &code, name) else {
             self.bad_bodies.insert(name.to_string());
             return;
+        };
+        let mut body = Body::new(name, kind, params);
+        if !stack.is_empty() {
+            let xf = placement(stack);
+            let det = xf.matrix3.determinant();
+            if !(xf.is_finite() && det.is_finite() && det > 0.0) {
+                let msg = format!(
+                    "the directives around body `{name}` make a transformation out of range"
+                );
+                return at(self, msg);
+            }
+            match body.transformed(&xf) {
+                Ok(moved) => body = moved,
+                Err(err) => return at(self, format!("cannot transform body `{name}`: {err}")),
+            }
+        }
+        if body.params.iter().any(|v| !v.is_finite()) {
+            let msg = format!("body `{name}` has a value out of range after its transformation");
+            return at(self, msg);
+        }
+        self.body_index.insert(name.to_string(), self.bodies.len());
+        self.bodies.push(body);
+        self.body_lines.push(*line);
+    }
+
+    /// The kind of a body's code, or `None` (reported) for an unknown or
+    /// unsupported one.
+    fn body_kind(&mut self, pending: &PendingBody) -> Option<BodyKind> {
+        let (line, col, code) = &pending.words[0];
+        let (line, col, code_len) = (*line, *col, code.chars().count());
+        if let Some(kind) = body_code(code) {
+            return Some(kind);
+        }
+        if UNSUPPORTED_CODES
+            .iter()
+            .any(|c| c.eq_ignore_ascii_case(code))
+        {
+            let list = BODY_CODES
+                .iter()
+                .map(|(c, _)| *c)
+                .collect::<Vec<_>>()
+                .join(" ");
+            self.err(
+                line,
+                col,
+                code_len,
+                format!("FLUKA body type `{code}` is not supported"),
+            )
+            .hint = Some(format!("supported body types: {list}"));
+        } else {
+            let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
+            self.err(line, col, code_len, format!("unknown body type `{code}`"))
+                .hint = hint;
+        }
+        if let Some((_, _, name)) = pending.words.get(1) {
+            self.bad_bodies.insert(name.clone());
+        }
+        None
+    }
+
+    /// The body's name, when it is a new, well-formed one (else reported).
+    fn body_name<'p>(&mut self, pending: &'p PendingBody, code: &str) -> Option<&'p str> {
+        let (line, col, code_len) = (pending.words[0].0, pending.words[0].1, code.chars().count());
+        let Some((name_line, name_col, name)) =
+            pending.words.get(1).map(|(l, c, n)| (*l, *c, n.as_str()))
+        else {
+            self.err(line, col, code_len, format!("`{code}` body has no name"));
+            return None;
+        };
+        let name_len = name.chars().count();
+        if starts_numeric(name) {
+            self.err(
+                name_line,
+                name_col,
+                name_len,
+                format!("expected a body name after `{code}`, found `{name}`"),
+            );
+            return None;
+        }
+        if !is_name(name) {
+            self.err(name_line, name_col, name_len, format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
+            self.bad_bodies.insert(name.to_string());
+            return None;
         }
         if let Some(&first) = self.body_index.get(name) {
             let hint = self.where_is(self.body_lines[first]);
             self.err(
-                nl,
-                nc,
-                name.chars().count(),
+                name_line,
+                name_col,
+                name_len,
                 format!("body `{name}` is defined twice"),
             )
             .hint = Some(format!("the first definition is on {hint}"));
-            return;
+            return None;
         }
-        let values = &p.words[2..];
+        Some(name)
+    }
+
+    /// The body's values: as many as its kind takes, all numbers (else
+    /// every problem is reported and `None` returned).
+    fn body_values(
+        &mut self,
+        pending: &PendingBody,
+        kind: BodyKind,
+        code: &str,
+        name: &str,
+    ) -> Option<Vec<f64>> {
+        let (line, col) = (pending.words[0].0, pending.words[0].1);
+        let values = &pending.words[2..];
         let want = kind.info().value_count();
         let mut ok = true;
         if values.len() != want {
             self.err(
                 line,
                 col,
-                code_len,
+                code.chars().count(),
                 format!(
                     "{code} `{name}` needs {want} values, found {}",
                     values.len()
@@ -393,18 +486,17 @@ impl Reader {
             ok = false;
         }
         let mut params = Vec::with_capacity(want);
-        for (i, (l, c, w)) in values.iter().enumerate().take(want) {
-            let (l, c, w) = (*l, *c, w.as_str());
-            match card::number(w) {
+        for (i, (value_line, value_col, text)) in values.iter().enumerate().take(want) {
+            match card::number(text) {
                 Some(v) => params.push(v),
                 None => {
                     let what = value_name(kind, i);
                     self.err(
-                        l,
-                        c,
-                        w.chars().count(),
+                        *value_line,
+                        *value_col,
+                        text.chars().count(),
                         format!(
-                            "expected a number for {code} `{name}` value {} ({what}), found `{w}`",
+                            "expected a number for {code} `{name}` value {} ({what}), found `{text}`",
                             i + 1
                         ),
                     );
@@ -412,63 +504,7 @@ impl Reader {
                 }
             }
         }
-        if !ok {
-            self.bad_bodies.insert(name.to_string());
-            return;
-        }
-        let mut body = Body::new(name, kind, params);
-        if !stack.is_empty() {
-            let mut e = 1.0;
-            let mut t = DVec3::ZERO;
-            let mut r = DAffine3::IDENTITY;
-            for d in stack {
-                match d.kind {
-                    DirKind::Expansion => e *= d.factor,
-                    DirKind::Translat => t += d.shift,
-                    DirKind::Transform => r *= d.xf,
-                }
-            }
-            let xf = r * DAffine3::from_translation(t) * DAffine3::from_scale(DVec3::splat(e));
-            let det = xf.matrix3.determinant();
-            if !(xf.is_finite() && det.is_finite() && det > 0.0) {
-                self.err(
-                    line,
-                    col,
-                    code_len,
-                    format!(
-                        "the directives around body `{name}` make a transformation out of range"
-                    ),
-                );
-                self.bad_bodies.insert(name.to_string());
-                return;
-            }
-            match body.transformed(&xf) {
-                Ok(b) => body = b,
-                Err(err) => {
-                    self.err(
-                        line,
-                        col,
-                        code_len,
-                        format!("cannot transform body `{name}`: {err}"),
-                    );
-                    self.bad_bodies.insert(name.to_string());
-                    return;
-                }
-            }
-        }
-        if body.params.iter().any(|v| !v.is_finite()) {
-            self.err(
-                line,
-                col,
-                code_len,
-                format!("body `{name}` has a value out of range after its transformation"),
-            );
-            self.bad_bodies.insert(name.to_string());
-            return;
-        }
-        self.body_index.insert(name.to_string(), self.bodies.len());
-        self.bodies.push(body);
-        self.body_lines.push(line);
+        ok.then_some(params)
     }
 }
 

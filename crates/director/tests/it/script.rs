@@ -490,7 +490,7 @@ AIM AT (0,0,0) OVER 2
 "#;
 
 #[test]
-fn a_script_becomes_the_timeline_it_says() {
+fn a_script_declares_its_rate_size_objects_and_axes() {
     let s = scene();
     let t = build(FILM, &s).expect("valid script");
     assert_eq!(t.fps(), 12.0);
@@ -522,6 +522,13 @@ fn a_script_becomes_the_timeline_it_says() {
             on: Some(1)
         }
     );
+}
+
+#[test]
+fn a_script_lists_its_steps_in_order() {
+    let s = scene();
+    let t = build(FILM, &s).expect("valid script");
+    let spec = t.spec();
     let m = |x, y, z| Change::Move {
         target: Target::Object(1),
         by: DVec3::new(x, y, z),
@@ -608,6 +615,12 @@ fn a_script_becomes_the_timeline_it_says() {
             Step::Change(Timed::over(Change::Aim(AimPoint::Point(DVec3::ZERO)), 2)),
         ]
     );
+}
+
+#[test]
+fn the_first_frame_of_a_script_is_the_papers() {
+    let s = scene();
+    let t = build(FILM, &s).expect("valid script");
     // The paper's first frame: moved by (3,0,-1), then turned 15 degrees
     // about AXIS 1, which the move carried to the vertical through (4, 0).
     let f0 = t.scene_at(&s, 0);

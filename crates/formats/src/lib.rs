@@ -15,7 +15,7 @@ pub mod pov;
 pub mod script;
 mod text;
 
-pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile, Span};
+pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile, Span, Style};
 use std::path::{Path, PathBuf};
 use sv_scene::Scene;
 

@@ -1,14 +1,14 @@
 //! FLUKA geometry in free (name-based) format.
 //!
 //! [`read`] finds `GEOBEGIN … GEOEND` (SDUM `COMBNAME`) in a FLUKA input and
-//! turns its bodies and regions into a [`Scene`] in centimetres. The physics
+//! turns its bodies and regions into a [`Scene`](sv_scene::Scene) in centimetres. The physics
 //! cards around it are skipped, except the few that shape the picture:
 //!
 //! * `TITLE` gives the scene title (else the geometry title line does);
 //! * `ROT-DEFI` cards (anywhere in the input) define the roto-translations
 //!   used by `$start_transform` (convention below);
 //! * `ASSIGNMA` cards name each region's material: it is recorded in
-//!   [`RegionProps::description`] as `material: NAME`, and `BLCKHOLE` regions
+//!   [`RegionProps::description`](sv_scene::RegionProps::description) as `material: NAME`, and `BLCKHOLE` regions
 //!   are made transparent, and so are `VACUUM` regions (air code 1, shown
 //!   by `render --show-air`);
 //! * `FREE`, `FIXED` and `GLOBAL` switch between fixed-column and free cards.
@@ -45,7 +45,7 @@
 //!   BOX, a turned XYP a PLA, a turned XCC…ZEC a QUA.
 //!
 //! `LATTICE` cards are read and checked; the container regions are drawn as
-//! themselves and a note in [`Scene::notes`] says the replicas are not drawn.
+//! themselves and a note in [`Scene::notes`](sv_scene::Scene::notes) says the replicas are not drawn.
 //! The fixed-format numbered geometry (`COMBINAT`) is not read: it is
 //! reported as such.
 //!
@@ -83,6 +83,7 @@ mod scene;
 pub use preprocess::MAX_INCLUDE_DEPTH;
 pub use region::{MAX_DEPTH, MAX_ZONES};
 
+use crate::diag::count;
 use crate::text;
 use crate::{did_you_mean, Diagnostic, Diagnostics, LoadOptions, Loaded, SourceFile};
 use card::Card;
@@ -161,12 +162,9 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         if r.suppressed > 0 {
             let last = r.errors.last().cloned().unwrap_or_else(|| r.sink.clone());
             r.errors.push(Diagnostic {
-                message: format!(
-                    "… and {} more error{}",
-                    r.suppressed,
-                    if r.suppressed == 1 { "" } else { "s" }
-                ),
+                message: format!("… and {}", count(r.suppressed, "more error", "more errors")),
                 hint: None,
+                unlisted_errors: r.suppressed,
                 ..last
             });
         }

@@ -194,14 +194,10 @@ pub fn load_source(src: &SourceFile, dir: &Path, opts: &LoadOptions) -> Result<F
             }
             Err(LoadError::Invalid(d)) => {
                 scene_ok = false;
-                let n = d.errors().count();
                 diags.push(Diagnostic::error_in(
                     src,
                     *span,
-                    format!(
-                        "scene `{name}` has {n} error{}",
-                        if n == 1 { "" } else { "s" }
-                    ),
+                    format!("scene `{name}` has {d}"),
                 ));
                 diags.items.extend(d.items);
             }

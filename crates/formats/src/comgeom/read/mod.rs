@@ -6,6 +6,7 @@ mod regions;
 
 use super::card::{cards, parse_int, Card};
 use super::kind_for;
+use crate::diag::count;
 use crate::{DeckVersion, Diagnostic, Diagnostics, LoadOptions, Loaded, SourceFile};
 use sv_geom::{Body, Geometry, Region, Zone};
 use sv_scene::{RegionProps, Scene, Units};
@@ -143,6 +144,8 @@ struct Reader<'a> {
     numbering_reported: bool,
     /// Errors and warnings not kept beyond [`MAX_DIAGNOSTICS`].
     suppressed: usize,
+    /// How many of them are errors.
+    suppressed_errors: usize,
     /// Where a diagnostic goes once the limit is reached.
     spare: Option<Diagnostic>,
     /// Terms that region-reference expansion may still produce.
@@ -167,6 +170,7 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         bodies: Vec::new(),
         numbering_reported: false,
         suppressed: 0,
+        suppressed_errors: 0,
         spare: None,
         budget: MAX_EXPANSION,
         nonblank_from: Vec::new(),
@@ -183,13 +187,23 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         }),
         _ => {
             if r.suppressed > 0 {
-                let n = r.suppressed;
-                let d = Diagnostic::error(
+                let mut d = Diagnostic::error(
                     src,
                     src.text.len(),
                     0,
-                    format!("{n} more errors and warnings are not shown"),
+                    format!(
+                        "{} not shown",
+                        count(
+                            r.suppressed,
+                            "more error or warning is",
+                            "more errors and warnings are"
+                        )
+                    ),
                 );
+                d.unlisted_errors = r.suppressed_errors;
+                if r.suppressed_errors == 0 {
+                    d = d.warning();
+                }
                 r.errors.push(d);
             }
             let mut items = r.errors;
@@ -235,6 +249,7 @@ impl<'a> Reader<'a> {
     /// Record an error (its hint can be set on the result).
     fn error(&mut self, line: usize, col: usize, len: usize, msg: String) -> &mut Diagnostic {
         if self.full() {
+            self.suppressed_errors += 1;
             return self.spare.insert(Diagnostic::error(self.src, 0, 0, msg));
         }
         let d = self.diag(line, col, len, msg);

@@ -256,6 +256,9 @@ fn a_deck_with_thousands_of_errors_reports_the_first_200_and_counts_the_rest() {
         "line 202, columns 11–20: expected a number for SPH centre (V.x), found \"x\""
     );
     assert_eq!(msgs[200], "800 more errors and warnings are not shown");
+    let all = read_text("bad.cg", &deck).unwrap_err();
+    assert_eq!(all.error_count(), 1000);
+    assert_eq!(all.to_string(), "1000 errors");
 }
 
 #[test]

@@ -112,6 +112,10 @@ fn errors_past_the_limit_are_counted() {
     let e = read_text(&geo(&bodies, "r 5 +s0")).unwrap_err();
     assert_eq!(e.items.len(), fluka::MAX_ERRORS + 1);
     assert_eq!(e.items.last().unwrap().message, "… and 50 more errors");
+    assert_eq!(e.error_count(), 150);
+    assert!(e
+        .report(sv_formats::Style::Plain, None)
+        .ends_with("\n150 errors found\n"));
 }
 
 #[test]

@@ -286,50 +286,52 @@ fn each_change(steps: &[Step], f: &mut dyn FnMut(&Change)) {
     }
 }
 
+/// Every index of the spec (objects, regions, axes, lights) must point
+/// into its list, and every axis have a direction.
 fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
-    let n = spec.objects.len();
-    let mut bad = |what: &'static str, index: usize, len: usize| {
+    let object_count = spec.objects.len();
+    let mut check = |what: &'static str, index: usize, len: usize| {
         if index >= len {
             errors.push(DirectorError::BadIndex { what, index });
         }
     };
     for o in &spec.objects {
         for &r in &o.regions {
-            bad("region", r, base.geometry.regions.len());
+            check("region", r, base.geometry.regions.len());
         }
         for &c in &o.children {
-            bad("object", c, n);
+            check("object", c, object_count);
         }
     }
     for a in &spec.axes {
         if let Some(o) = a.on {
-            bad("object", o, n);
+            check("object", o, object_count);
         }
     }
-    let na = spec.axes.len();
-    let nl = base.lights.len();
+    let axis_count = spec.axes.len();
+    let light_count = base.lights.len();
     each_change(&spec.steps, &mut |c| {
-        let target = |t: Target, bad: &mut dyn FnMut(&'static str, usize, usize)| match t {
-            Target::Object(o) => bad("object", o, n),
-            Target::Light(l) => bad("light", l, nl),
+        let target = |t: Target, check: &mut dyn FnMut(&'static str, usize, usize)| match t {
+            Target::Object(o) => check("object", o, object_count),
+            Target::Light(l) => check("light", l, light_count),
             Target::Camera => {}
         };
         match *c {
-            Change::Move { target: t, .. } => target(t, &mut bad),
+            Change::Move { target: t, .. } => target(t, &mut check),
             Change::Turn {
                 target: t, axis, ..
             } => {
-                target(t, &mut bad);
-                bad("axis", axis, na);
+                target(t, &mut check);
+                check("axis", axis, axis_count);
             }
             Change::Aim(AimPoint::Object(o))
             | Change::Stop { object: o }
-            | Change::Track(Some(o)) => bad("object", o, n),
+            | Change::Track(Some(o)) => check("object", o, object_count),
             Change::Spin { object, axis, .. } => {
-                bad("object", object, n);
-                bad("axis", axis, na);
+                check("object", object, object_count);
+                check("axis", axis, axis_count);
             }
-            Change::Intensity { light, .. } => bad("light", light, nl),
+            Change::Intensity { light, .. } => check("light", light, light_count),
             Change::Aim(AimPoint::Point(_)) | Change::Zoom(_) | Change::Track(None) => {}
         }
     });

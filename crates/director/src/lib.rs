@@ -346,20 +346,22 @@ impl Timeline {
         }
     }
 
-    fn apply(&self, s: &mut FrameState, change: &Change, f: f64) {
+    fn apply(&self, state: &mut FrameState, change: &Change, fraction: f64) {
         match *change {
             Change::Move { target, by } => {
-                let d = by * f;
+                let shift = by * fraction;
                 match target {
-                    Target::Object(o) => self.transform_object(s, o, DAffine3::from_translation(d)),
+                    Target::Object(o) => {
+                        self.transform_object(state, o, DAffine3::from_translation(shift))
+                    }
                     Target::Camera => {
-                        if let Some(c) = s.camera.as_mut() {
-                            c.eye += d;
+                        if let Some(camera) = state.camera.as_mut() {
+                            camera.eye += shift;
                         }
                     }
                     Target::Light(i) => {
-                        if let Some((LightKind::Point { pos, .. }, _)) = s.lights.get_mut(i) {
-                            *pos += d;
+                        if let Some((LightKind::Point { pos, .. }, _)) = state.lights.get_mut(i) {
+                            *pos += shift;
                         }
                     }
                 }
@@ -369,20 +371,24 @@ impl Timeline {
                 axis,
                 degrees,
             } => {
-                let (p, d) = self.axis_at(axis, s);
-                let r = rotation_about_axis(p, d, degrees * f);
+                let (point, dir) = self.axis_at(axis, state);
+                let rotation = rotation_about_axis(point, dir, degrees * fraction);
                 match target {
-                    Target::Object(o) => self.transform_object(s, o, r),
+                    Target::Object(o) => self.transform_object(state, o, rotation),
                     Target::Camera => {
-                        if let Some(c) = s.camera.as_mut() {
-                            c.eye = r.transform_point3(c.eye);
-                            c.dir = r.transform_vector3(c.dir);
-                            c.up = r.transform_vector3(c.up);
+                        if let Some(camera) = state.camera.as_mut() {
+                            camera.eye = rotation.transform_point3(camera.eye);
+                            camera.dir = rotation.transform_vector3(camera.dir);
+                            camera.up = rotation.transform_vector3(camera.up);
                         }
                     }
-                    Target::Light(i) => match s.lights.get_mut(i) {
-                        Some((LightKind::Point { pos, .. }, _)) => *pos = r.transform_point3(*pos),
-                        Some((LightKind::Parallel { dir }, _)) => *dir = r.transform_vector3(*dir),
+                    Target::Light(i) => match state.lights.get_mut(i) {
+                        Some((LightKind::Point { pos, .. }, _)) => {
+                            *pos = rotation.transform_point3(*pos)
+                        }
+                        Some((LightKind::Parallel { dir }, _)) => {
+                            *dir = rotation.transform_vector3(*dir)
+                        }
                         None => {}
                     },
                 }
@@ -390,30 +396,30 @@ impl Timeline {
             Change::Aim(at) => {
                 let target = match at {
                     AimPoint::Point(p) => p,
-                    AimPoint::Object(o) => self.object_centre(o, s),
+                    AimPoint::Object(o) => self.object_centre(o, state),
                 };
-                if let Some(c) = s.camera.as_mut() {
-                    let d1 = target - c.eye;
-                    if d1.length_squared() == 0.0 || !d1.is_finite() {
+                if let Some(camera) = state.camera.as_mut() {
+                    let to_target = target - camera.eye;
+                    if to_target.length_squared() == 0.0 || !to_target.is_finite() {
                         return;
                     }
-                    if f >= 1.0 {
-                        c.dir = d1;
+                    if fraction >= 1.0 {
+                        camera.dir = to_target;
                     } else {
-                        let a = c.dir.normalize();
-                        let q = DQuat::from_rotation_arc(a, d1.normalize());
-                        c.dir = DQuat::IDENTITY.slerp(q, f) * a;
+                        let from = camera.dir.normalize();
+                        let turn = DQuat::from_rotation_arc(from, to_target.normalize());
+                        camera.dir = DQuat::IDENTITY.slerp(turn, fraction) * from;
                     }
                 }
             }
             Change::Zoom(z) => {
-                if let Some(c) = s.camera.as_mut() {
-                    c.lens = zoom(c, z, f);
+                if let Some(camera) = state.camera.as_mut() {
+                    camera.lens = zoom(camera, z, fraction);
                 }
             }
             Change::Intensity { light, value } => {
-                if let Some((_, i)) = s.lights.get_mut(light) {
-                    *i = lerp(*i, value, f);
+                if let Some((_, intensity)) = state.lights.get_mut(light) {
+                    *intensity = lerp(*intensity, value, fraction);
                 }
             }
             Change::Spin {
@@ -421,11 +427,11 @@ impl Timeline {
                 axis,
                 degrees_per_frame,
             } => {
-                s.spins.retain(|sp| sp.0 != object);
-                s.spins.push((object, axis, degrees_per_frame));
+                state.spins.retain(|sp| sp.0 != object);
+                state.spins.push((object, axis, degrees_per_frame));
             }
-            Change::Stop { object } => s.spins.retain(|sp| sp.0 != object),
-            Change::Track(t) => s.track = t,
+            Change::Stop { object } => state.spins.retain(|sp| sp.0 != object),
+            Change::Track(t) => state.track = t,
         }
     }
 }
@@ -438,15 +444,15 @@ fn lerp(a: f64, b: f64, f: f64) -> f64 {
     }
 }
 
-fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
-    match (z, c.lens) {
+fn zoom(camera: &Camera, to: Zoom, fraction: f64) -> Lens {
+    match (to, camera.lens) {
         (Zoom::Fov(v1), Lens::Fov { vertical_deg }) => Lens::Fov {
-            vertical_deg: lerp(vertical_deg, v1, f),
+            vertical_deg: lerp(vertical_deg, v1, fraction),
         },
         (Zoom::Fov(v1), Lens::Focal { .. }) => {
-            let v0 = 2.0 * c.tan_half_fov().atan().to_degrees();
+            let v0 = 2.0 * camera.tan_half_fov().atan().to_degrees();
             Lens::Fov {
-                vertical_deg: lerp(v0, v1, f),
+                vertical_deg: lerp(v0, v1, fraction),
             }
         }
         (
@@ -456,7 +462,7 @@ fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
                 film_height,
             },
         ) => Lens::Focal {
-            focal: lerp(f0, focal, f),
+            focal: lerp(f0, focal, fraction),
             film_height,
         },
         (
@@ -466,14 +472,14 @@ fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
             },
             Lens::Fov { .. },
         ) => {
-            let f0 = film_height / (2.0 * c.tan_half_fov());
+            let f0 = film_height / (2.0 * camera.tan_half_fov());
             Lens::Focal {
-                focal: lerp(f0, focal, f),
+                focal: lerp(f0, focal, fraction),
                 film_height,
             }
         }
         (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho {
-            height: lerp(height, h1, f),
+            height: lerp(height, h1, fraction),
         },
         // A perspective setting on an orthographic camera and the reverse,
         // and a focal length without a film height for a lens given as a

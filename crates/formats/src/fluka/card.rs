@@ -121,19 +121,19 @@ pub(crate) fn words(line: &str) -> Vec<(usize, &str)> {
 /// point, and an optional exponent introduced by `E` or `D` (Fortran). Words
 /// such as `inf` or `NaN` are refused.
 pub(crate) fn number(s: &str) -> Option<f64> {
-    let b = s.as_bytes();
+    let bytes = s.as_bytes();
     let mut i = 0;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+    if i < bytes.len() && (bytes[i] == b'+' || bytes[i] == b'-') {
         i += 1;
     }
     let mut digits = 0;
-    while i < b.len() && b[i].is_ascii_digit() {
+    while i < bytes.len() && bytes[i].is_ascii_digit() {
         i += 1;
         digits += 1;
     }
-    if i < b.len() && b[i] == b'.' {
+    if i < bytes.len() && bytes[i] == b'.' {
         i += 1;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
             digits += 1;
         }
@@ -143,14 +143,14 @@ pub(crate) fn number(s: &str) -> Option<f64> {
     }
     let mantissa_end = i;
     let mut exponent = String::new();
-    if i < b.len() && matches!(b[i], b'e' | b'E' | b'd' | b'D') {
+    if i < bytes.len() && matches!(bytes[i], b'e' | b'E' | b'd' | b'D') {
         i += 1;
         let start = i;
-        if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        if i < bytes.len() && (bytes[i] == b'+' || bytes[i] == b'-') {
             i += 1;
         }
         let d0 = i;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
         }
         if i == d0 {
@@ -158,7 +158,7 @@ pub(crate) fn number(s: &str) -> Option<f64> {
         }
         exponent = format!("e{}", &s[start..i]);
     }
-    if i != b.len() {
+    if i != bytes.len() {
         return None;
     }
     let mut m = s[..mantissa_end].to_string();

@@ -124,7 +124,7 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
     let lines = std::mem::take(&mut pre.lines);
     let errors = std::mem::take(&mut pre.errors);
     let suppressed = pre.suppressed;
-    let mut r = Reader {
+    let mut reader = Reader {
         lines,
         errors,
         warnings: Vec::new(),
@@ -148,31 +148,41 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         sink: Diagnostic::error(src, 0, 0, ""),
         out: pre,
     };
-    r.run();
-    if !r.errors.is_empty() || r.suppressed > 0 {
-        let files: HashMap<String, usize> = r
+    reader.run();
+    if !reader.errors.is_empty() || reader.suppressed > 0 {
+        let files: HashMap<String, usize> = reader
             .out
             .files
             .iter()
             .enumerate()
             .map(|(i, f)| (f.name.clone(), i))
             .collect();
-        r.errors
+        reader
+            .errors
             .sort_by_key(|d| (files.get(&d.source.name).copied().unwrap_or(0), d.offset));
-        if r.suppressed > 0 {
-            let last = r.errors.last().cloned().unwrap_or_else(|| r.sink.clone());
-            r.errors.push(Diagnostic {
-                message: format!("… and {}", count(r.suppressed, "more error", "more errors")),
+        if reader.suppressed > 0 {
+            let last = reader
+                .errors
+                .last()
+                .cloned()
+                .unwrap_or_else(|| reader.sink.clone());
+            reader.errors.push(Diagnostic {
+                message: format!(
+                    "… and {}",
+                    count(reader.suppressed, "more error", "more errors")
+                ),
                 hint: None,
-                unlisted_errors: r.suppressed,
+                unlisted_errors: reader.suppressed,
                 ..last
             });
         }
-        return Err(Diagnostics { items: r.errors });
+        return Err(Diagnostics {
+            items: reader.errors,
+        });
     }
     Ok(Loaded {
-        scene: r.scene(),
-        warnings: r.warnings,
+        scene: reader.scene(),
+        warnings: reader.warnings,
     })
 }
 
@@ -333,21 +343,21 @@ impl Reader {
     }
 
     fn run(&mut self) {
-        let n = self.lines.len();
+        let line_count = self.lines.len();
         let mut free = false;
-        let mut geo: Option<(usize, usize)> = None;
+        let mut geometry: Option<(usize, usize)> = None;
         let mut seen_geobegin = false;
         let mut i = 0;
-        while i < n {
+        while i < line_count {
             let text = clean(&self.lines[i].text).to_string();
             if text.trim().is_empty() {
                 i += 1;
                 continue;
             }
-            let c = card::split(&text, card::is_free(&text, free));
-            match c.keyword.as_str() {
+            let card = card::split(&text, card::is_free(&text, free));
+            match card.keyword.as_str() {
                 "TITLE" => {
-                    if i + 1 < n {
+                    if i + 1 < line_count {
                         self.title = Some(self.lines[i + 1].text.trim().to_string());
                     }
                     i += 2;
@@ -356,7 +366,7 @@ impl Reader {
                 "FREE" => free = true,
                 "FIXED" => free = false,
                 "GLOBAL"
-                    if c.what[3]
+                    if card.what[3]
                         .as_ref()
                         .and_then(|f| card::number(&f.text))
                         .is_some_and(|v| v >= 2.0) =>
@@ -370,7 +380,7 @@ impl Reader {
                         continue;
                     }
                     seen_geobegin = true;
-                    let end = (i + 1..n).find(|&j| {
+                    let end = (i + 1..line_count).find(|&j| {
                         tokens(clean(&self.lines[j].text))
                             .first()
                             .is_some_and(|(_, w)| w.eq_ignore_ascii_case("GEOEND"))
@@ -380,13 +390,13 @@ impl Reader {
                             Some("end the geometry with a GEOEND card".into());
                         break;
                     };
-                    let ok = self.check_geobegin(i, &c);
-                    geo = ok.then_some((i, end));
+                    let ok = self.check_geobegin(i, &card);
+                    geometry = ok.then_some((i, end));
                     i = end + 1;
                     continue;
                 }
-                k if k.starts_with("ROT-DEFI") => self.rotdefi(i, &c),
-                k if k.starts_with("ASSIGNMA") => self.assigns.push((i, c)),
+                k if k.starts_with("ROT-DEFI") => self.rotdefi(i, &card),
+                k if k.starts_with("ASSIGNMA") => self.assigns.push((i, card)),
                 _ => {}
             }
             i += 1;
@@ -401,7 +411,7 @@ impl Reader {
             );
             return;
         }
-        if let Some((begin, end)) = geo {
+        if let Some((begin, end)) = geometry {
             self.geometry(begin, end, free);
         }
     }
@@ -467,9 +477,9 @@ impl Reader {
             if text.trim().is_empty() {
                 continue;
             }
-            let c = card::split(&text, card::is_free(&text, free));
-            if c.keyword == "LATTICE" {
-                self.lattice(i, &c);
+            let card = card::split(&text, card::is_free(&text, free));
+            if card.keyword == "LATTICE" {
+                self.lattice(i, &card);
             } else if ivlflg == 0 {
                 let (col, w) = tokens(&text)
                     .first()

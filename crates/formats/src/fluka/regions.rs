@@ -69,12 +69,12 @@ impl Reader {
             let index = &self.body_index;
             let bad = &self.bad_bodies;
             region::Parser::new(&toks, |t| match &t.tok {
-                Tok::Name(n) => {
-                    let b = index.get(n).copied();
-                    if b.is_none() && !bad.contains(n) {
+                Tok::Name(body_name) => {
+                    let body = index.get(body_name).copied();
+                    if body.is_none() && !bad.contains(body_name) {
                         missing.push(t.clone());
                     }
-                    b
+                    body
                 }
                 _ => None,
             })
@@ -82,28 +82,35 @@ impl Reader {
         };
         let mut ok = true;
         for t in &missing {
-            let Tok::Name(b) = &t.tok else { continue };
-            let hint = self.hint_among(b, self.body_index.keys());
+            let Tok::Name(body_name) = &t.tok else {
+                continue;
+            };
+            let hint = self.hint_among(body_name, self.body_index.keys());
             self.err(
                 t.line,
                 t.col,
                 t.len,
-                format!("region `{name}` refers to undefined body `{b}`"),
+                format!("region `{name}` refers to undefined body `{body_name}`"),
             )
             .hint = hint;
             ok = false;
         }
         let parsed = match parsed {
             Ok(p) => p,
-            Err(e) => {
-                let (l, c, len) = match toks.get(e.at) {
+            Err(error) => {
+                let (at_line, at_col, len) = match toks.get(error.at) {
                     Some(t) => (t.line, t.col, t.len),
                     None => {
                         let t = toks.last().expect("not empty");
                         (t.line, t.col + t.len, 0)
                     }
                 };
-                self.err(l, c, len, format!("in region `{name}`: {}", e.message));
+                self.err(
+                    at_line,
+                    at_col,
+                    len,
+                    format!("in region `{name}`: {}", error.message),
+                );
                 return;
             }
         };
@@ -122,7 +129,7 @@ impl Reader {
         self.region_lines.push(line);
         let zones = if ok && missing.is_empty() {
             match self.expander.zones(&parsed) {
-                Ok(z) => z,
+                Ok(zones) => zones,
                 Err(region::TooBig::Zones) => {
                     self.err(
                         line,

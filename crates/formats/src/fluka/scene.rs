@@ -120,21 +120,21 @@ impl Reader {
             .and_then(|f| card::number(&f.text))
             .filter(|v| *v >= 1.0)
             .map_or(1, |v| v.min(1e9) as usize);
-        let mut r = first;
-        while r <= last && r < props.len() && self.assign_budget > 0 {
+        let mut region = first;
+        while region <= last && region < props.len() && self.assign_budget > 0 {
             self.assign_budget -= 1;
-            let p = &mut props[r];
-            p.description = format!("material: {material}");
+            let region_props = &mut props[region];
+            region_props.description = format!("material: {material}");
             // Vacuum is air: left out of pictures unless `--show-air`, as
             // air-coded regions of COMGEOM decks are.
-            p.transparent = material == "BLCKHOLE" || material == "VACUUM";
-            p.material = match material.as_str() {
+            region_props.transparent = material == "BLCKHOLE" || material == "VACUUM";
+            region_props.material = match material.as_str() {
                 "BLCKHOLE" => 1,
                 "VACUUM" => 2,
                 _ => 0,
             };
-            p.air = i64::from(material == "VACUUM");
-            r += step;
+            region_props.air = i64::from(material == "VACUUM");
+            region += step;
         }
     }
 }

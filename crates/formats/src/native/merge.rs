@@ -32,50 +32,50 @@ pub fn merge(
     tag: &str,
     regions: Clash,
 ) -> Result<(), MergeError> {
-    for r in &mut other.geometry.regions {
-        if scene.geometry.region_index(&r.name).is_some() {
+    for region in &mut other.geometry.regions {
+        if scene.geometry.region_index(&region.name).is_some() {
             match regions {
-                Clash::Refuse => return Err(MergeError::Region(r.name.clone())),
-                Clash::Rename => r.name = format!("{tag}/{}", r.name),
+                Clash::Refuse => return Err(MergeError::Region(region.name.clone())),
+                Clash::Rename => region.name = format!("{tag}/{}", region.name),
             }
         }
     }
     let offset = scene.geometry.bodies.len();
     if other.units != scene.units {
-        let f = other.units.mm() / scene.units.mm();
-        let xf = sv_math::DAffine3::from_scale(DVec3::splat(f));
-        for b in &mut other.geometry.bodies {
+        let factor = other.units.mm() / scene.units.mm();
+        let scale = sv_math::DAffine3::from_scale(DVec3::splat(factor));
+        for body in &mut other.geometry.bodies {
             // A uniform positive scale is a similarity: it cannot fail.
-            if let Ok(scaled) = b.transformed(&xf) {
-                *b = scaled;
+            if let Ok(scaled) = body.transformed(&scale) {
+                *body = scaled;
             }
         }
     }
-    for mut b in other.geometry.bodies {
-        if scene.geometry.body_index(&b.name).is_some() {
-            b.name = format!("{tag}/{}", b.name);
+    for mut body in other.geometry.bodies {
+        if scene.geometry.body_index(&body.name).is_some() {
+            body.name = format!("{tag}/{}", body.name);
         }
-        scene.geometry.bodies.push(b);
+        scene.geometry.bodies.push(body);
     }
-    for (mut r, p) in other.geometry.regions.into_iter().zip(other.regions) {
-        for z in &mut r.zones {
-            for t in &mut z.terms {
-                t.body += offset;
+    for (mut region, props) in other.geometry.regions.into_iter().zip(other.regions) {
+        for zone in &mut region.zones {
+            for term in &mut zone.terms {
+                term.body += offset;
             }
         }
-        scene.push_region(r, p);
+        scene.push_region(region, props);
     }
     if scene.title.is_empty() {
         scene.title = other.title;
     }
     scene.notes.extend(other.notes);
-    for l in other.lights {
+    for light in other.lights {
         if !scene
             .lights
             .iter()
-            .any(|m| m.name.eq_ignore_ascii_case(&l.name))
+            .any(|old| old.name.eq_ignore_ascii_case(&light.name))
         {
-            scene.lights.push(l);
+            scene.lights.push(light);
         }
     }
     scene.camera = scene.camera.or(other.camera);

@@ -259,7 +259,7 @@ impl Resolver<'_> {
 pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timeline, Diagnostics> {
     let camera = ast.camera.as_ref().map(|c| c.camera);
     let start_camera = camera.or(scene.camera);
-    let mut r = Resolver {
+    let mut resolver = Resolver {
         src,
         scene,
         objects: HashMap::new(),
@@ -281,19 +281,19 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
         broken: &ast.broken,
     };
     // Declarations first, so that they may come in any order.
-    r.declare_objects(&ast.objects);
-    let (objects, object_ast) = r.objects_of(&ast.objects);
-    let axes = r.axes_of(ast);
-    let steps = r.blocks(&ast.blocks);
+    resolver.declare_objects(&ast.objects);
+    let (objects, object_ast) = resolver.objects_of(&ast.objects);
+    let axes = resolver.axes_of(ast);
+    let steps = resolver.blocks(&ast.blocks);
     if let Some(Camera {
         lens: Lens::Fov { .. } | Lens::Focal { .. },
         ..
     }) = start_camera
     {
         let has_film = matches!(start_camera.map(|c| c.lens), Some(Lens::Focal { .. }));
-        r.check_films(&ast.blocks, has_film, &mut Vec::new());
+        resolver.check_films(&ast.blocks, has_film, &mut Vec::new());
     }
-    let mut diags = r.diags;
+    let mut diags = resolver.diags;
     let spec = Spec {
         objects,
         axes,
@@ -309,8 +309,8 @@ pub fn resolve(src: &SourceFile, ast: &ScriptAst, scene: &Scene) -> Result<Timel
     match Timeline::new(spec, scene) {
         Ok(t) => Ok(t),
         Err(errors) => {
-            for e in errors {
-                diags.push(director_error(src, ast, &object_ast, e));
+            for error in errors {
+                diags.push(director_error(src, ast, &object_ast, error));
             }
             diags.items.sort_by_key(|d| d.offset);
             Err(diags)

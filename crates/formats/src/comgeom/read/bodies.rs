@@ -77,8 +77,8 @@ impl<'a> Reader<'a> {
         let number = self.bodies.len() + 1;
         let lay = self.lay;
         if self.version == DeckVersion::V5 && !self.numbering_reported {
-            let f = header.field(lay.num_col, lay.num_len);
-            if parse_int(f) != Some(number as i64) {
+            let number_field = header.field(lay.num_col, lay.num_len);
+            if parse_int(number_field) != Some(number as i64) {
                 self.numbering_reported = true;
                 self.error(
                     header.line,
@@ -87,7 +87,7 @@ impl<'a> Reader<'a> {
                     format!(
                         "{}: expected body number {number}, found \"{}\"",
                         at(header.line, lay.num_col, lay.num_len),
-                        f.trim()
+                        number_field.trim()
                     ),
                 )
                 .hint = Some("v5 body cards are numbered 1, 2, 3, … in deck order".into());
@@ -115,19 +115,19 @@ impl<'a> Reader<'a> {
         let params = if kind == BodyKind::Ars {
             self.ars(header, number)?
         } else {
-            let n = kind.info().value_count();
-            let mut vals = Vec::with_capacity(n);
-            let mut ok = self.values(header, kind, n, &mut vals, &|i| param_label(kind, i));
+            let count = kind.info().value_count();
+            let mut values = Vec::with_capacity(count);
+            let mut ok = self.values(header, kind, count, &mut values, &|i| param_label(kind, i));
             let mut card = header;
-            let total = n.div_ceil(6);
+            let total = count.div_ceil(6);
             for k in 2..=total {
                 card = self.continuation(card, number, kind, k, total)?;
-                ok &= self.values(card, kind, n, &mut vals, &|i| param_label(kind, i));
+                ok &= self.values(card, kind, count, &mut values, &|i| param_label(kind, i));
             }
             if !ok {
                 return None;
             }
-            vals
+            values
         };
         Some(Body::new(number.to_string(), kind, params))
     }
@@ -245,8 +245,8 @@ impl<'a> Reader<'a> {
             self.skip_continuations();
             return None;
         }
-        let [curves, ppc] = counts;
-        let per_curve = (ppc as u128 * 3).div_ceil(6);
+        let [curves, points] = counts;
+        let per_curve = (points as u128 * 3).div_ceil(6);
         let needed = curves as u128 * per_curve;
         let remaining = self.nonblank_from[self.pos.min(self.cards.len())];
         if needed > remaining as u128 {
@@ -255,7 +255,7 @@ impl<'a> Reader<'a> {
                 11,
                 20,
                 format!(
-                    "{}: ARS body {number} claims {curves} curves of {ppc} points ({needed} cards), but only {remaining} cards follow",
+                    "{}: ARS body {number} claims {curves} curves of {points} points ({needed} cards), but only {remaining} cards follow",
                     at(header.line, 11, 20)
                 ),
             );
@@ -263,28 +263,33 @@ impl<'a> Reader<'a> {
             return None;
         }
         let per_curve = per_curve as usize;
-        let mut vals = Vec::with_capacity(2 + curves * ppc * 3);
-        vals.push(curves as f64);
-        vals.push(ppc as f64);
+        let mut values = Vec::with_capacity(2 + curves * points * 3);
+        values.push(curves as f64);
+        values.push(points as f64);
         let mut card = header;
-        for c in 0..curves {
-            let mut curve = Vec::with_capacity(ppc * 3);
+        for curve_index in 0..curves {
+            let mut curve = Vec::with_capacity(points * 3);
             for k in 0..per_curve {
-                let idx = 2 + c * per_curve + k;
-                card =
-                    self.continuation(card, number, BodyKind::Ars, idx, 1 + curves * per_curve)?;
-                ok &= self.values(card, BodyKind::Ars, ppc * 3, &mut curve, &|i| {
+                let card_index = 2 + curve_index * per_curve + k;
+                card = self.continuation(
+                    card,
+                    number,
+                    BodyKind::Ars,
+                    card_index,
+                    1 + curves * per_curve,
+                )?;
+                ok &= self.values(card, BodyKind::Ars, points * 3, &mut curve, &|i| {
                     format!(
                         "curve {} point {} ({})",
-                        c + 1,
+                        curve_index + 1,
                         i / 3 + 1,
                         ["x", "y", "z"][i % 3]
                     )
                 });
             }
-            vals.extend(curve);
+            values.extend(curve);
         }
-        ok.then_some(vals)
+        ok.then_some(values)
     }
 }
 

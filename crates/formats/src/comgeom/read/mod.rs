@@ -159,7 +159,7 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
     let version = opts
         .deck_version
         .unwrap_or_else(|| detect_version(&src.text));
-    let mut r = Reader {
+    let mut reader = Reader {
         src,
         cards: cards(&src.text),
         pos: 0,
@@ -175,39 +175,40 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         budget: MAX_EXPANSION,
         nonblank_from: Vec::new(),
     };
-    r.nonblank_from = vec![0; r.cards.len() + 1];
-    for i in (0..r.cards.len()).rev() {
-        r.nonblank_from[i] = r.nonblank_from[i + 1] + usize::from(!r.cards[i].is_blank());
+    reader.nonblank_from = vec![0; reader.cards.len() + 1];
+    for i in (0..reader.cards.len()).rev() {
+        reader.nonblank_from[i] =
+            reader.nonblank_from[i + 1] + usize::from(!reader.cards[i].is_blank());
     }
-    let scene = r.deck();
+    let scene = reader.deck();
     match scene {
-        Some(scene) if r.errors.is_empty() => Ok(Loaded {
+        Some(scene) if reader.errors.is_empty() => Ok(Loaded {
             scene,
-            warnings: r.warnings,
+            warnings: reader.warnings,
         }),
         _ => {
-            if r.suppressed > 0 {
-                let mut d = Diagnostic::error(
+            if reader.suppressed > 0 {
+                let mut note = Diagnostic::error(
                     src,
                     src.text.len(),
                     0,
                     format!(
                         "{} not shown",
                         count(
-                            r.suppressed,
+                            reader.suppressed,
                             "more error or warning is",
                             "more errors and warnings are"
                         )
                     ),
                 );
-                d.unlisted_errors = r.suppressed_errors;
-                if r.suppressed_errors == 0 {
-                    d = d.warning();
+                note.unlisted_errors = reader.suppressed_errors;
+                if reader.suppressed_errors == 0 {
+                    note = note.warning();
                 }
-                r.errors.push(d);
+                reader.errors.push(note);
             }
-            let mut items = r.errors;
-            items.append(&mut r.warnings);
+            let mut items = reader.errors;
+            items.append(&mut reader.warnings);
             items.sort_by_key(|d| d.offset);
             Err(Diagnostics { items })
         }
@@ -304,16 +305,16 @@ impl<'a> Reader<'a> {
         if self.version == DeckVersion::V1 {
             scene.title = title.text.trim().to_string();
         } else {
-            let u = title.field(1, 2).trim();
-            scene.units = match Units::parse(u) {
-                Some(units) if u.len() <= 2 => units,
+            let units_field = title.field(1, 2).trim();
+            scene.units = match Units::parse(units_field) {
+                Some(units) if units_field.len() <= 2 => units,
                 _ => {
                     self.warn(
                         title.line,
                         1,
                         2,
                         format!(
-                            "{}: unknown units \"{u}\"; inches assumed",
+                            "{}: unknown units \"{units_field}\"; inches assumed",
                             at(title.line, 1, 2)
                         ),
                     );

@@ -14,36 +14,39 @@ impl<'a> Reader<'a> {
     pub(super) fn region_table(&mut self) -> Vec<RawRegion> {
         let mut regions: Vec<RawRegion> = Vec::new();
         let mut by_number: HashMap<i64, usize> = HashMap::new();
-        let nbodies = self.bodies.len();
+        let body_count = self.bodies.len();
         if self.peek().is_none() {
-            let l = self.last_line();
-            let end = self.cards.get(l - 1).map_or(0, |c| c.text.chars().count());
+            let last = self.last_line();
+            let end = self
+                .cards
+                .get(last - 1)
+                .map_or(0, |c| c.text.chars().count());
             self.error(
-                l,
+                last,
                 end + 1,
                 0,
-                format!("line {l}: the deck ends before the region table"),
+                format!("line {last}: the deck ends before the region table"),
             );
             return regions;
         }
-        let fc = self.region_field_start();
-        let nlen = (fc - 1).min(5);
+        let field_start = self.region_field_start();
+        let number_len = (field_start - 1).min(5);
         loop {
             let Some(card) = self.next() else {
-                let l = self.last_line();
+                let last = self.last_line();
                 let msg = match self.version {
-                    DeckVersion::V1 => format!("line {l}: the region table has no end card"),
-                    _ => format!("line {l}: the region table has no -1 end card"),
+                    DeckVersion::V1 => format!("line {last}: the region table has no end card"),
+                    _ => format!("line {last}: the region table has no -1 end card"),
                 };
-                self.warn(l, 1, 0, msg);
+                self.warn(last, 1, 0, msg);
                 break;
             };
             if self.version == DeckVersion::V1 && card.text.trim().eq_ignore_ascii_case("end") {
                 break;
             }
-            let nf = card.field(1, nlen);
-            let Some(num) = parse_int(nf) else {
-                self.error(card.line, 1, nlen, format!("{}: expected a region number, found \"{}\"", at(card.line, 1, nlen), nf.trim()))
+            let number_field = card.field(1, number_len);
+            let Some(num) = parse_int(number_field) else {
+                self.error(card.line, 1, number_len, format!("{}: expected a region number, found \"{}\"", at(card.line, 1, number_len), number_field.trim()))
                     .hint = Some("a region card starts with the region number in columns 1–5 (blank continues the region, -1 ends the table)".into());
                 continue;
             };
@@ -73,24 +76,30 @@ impl<'a> Reader<'a> {
                     number: num,
                     line: card.line,
                     zones: vec![Vec::new()],
-                    comment: card.rest(fc + 63).trim().to_string(),
+                    comment: card.rest(field_start + 63).trim().to_string(),
                     has_refs: false,
                 });
             }
             let region = regions.last_mut().expect("a region exists");
             for i in 0..9 {
-                self.region_field(card, fc + 7 * i, region, nbodies);
+                self.region_field(card, field_start + 7 * i, region, body_count);
             }
         }
-        for r in &mut regions {
-            r.zones.retain(|z| !z.is_empty());
+        for region in &mut regions {
+            region.zones.retain(|z| !z.is_empty());
         }
         regions
     }
 
     /// One operator and number field of a region card at column `col`: a
     /// term added to `region` (a new zone first after OR), or an error.
-    fn region_field(&mut self, card: Card<'a>, col: usize, region: &mut RawRegion, nbodies: usize) {
+    fn region_field(
+        &mut self,
+        card: Card<'a>,
+        col: usize,
+        region: &mut RawRegion,
+        body_count: usize,
+    ) {
         let rnum = region.number;
         let op = card.field(col, 2);
         let raw = card.field(col + 2, 5);
@@ -142,13 +151,13 @@ impl<'a> Reader<'a> {
             return;
         };
         let number = n.unsigned_abs() as usize;
-        if !region_ref && number > nbodies {
+        if !region_ref && number > body_count {
             self.error(
                 card.line,
                 col + 2,
                 5,
                 format!(
-                    "{}: region {rnum} refers to body {number}, which is not defined (the deck has {nbodies} bodies)",
+                    "{}: region {rnum} refers to body {number}, which is not defined (the deck has {body_count} bodies)",
                     at(card.line, col + 2, 5)
                 ),
             );
@@ -206,52 +215,52 @@ impl<'a> Reader<'a> {
         let by_number: HashMap<i64, usize> = regions
             .iter()
             .enumerate()
-            .map(|(i, r)| (r.number, i))
+            .map(|(i, region)| (region.number, i))
             .collect();
         let mut seen: HashMap<usize, usize> = HashMap::new();
         let mut textual: Option<(usize, usize)> = None;
         while let Some(card) = self.next() {
             let v5 = self.version == DeckVersion::V5;
-            let (reg_f, fields) = if v5 {
+            let (number_at, fields) = if v5 {
                 ((1, 5), [(6, 5), (11, 5), (16, 5), (21, 5)])
             } else {
                 ((1, 10), [(11, 10), (21, 10), (75, 3), (78, 3)])
             };
-            let rf = card.field(reg_f.0, reg_f.1);
-            let Some(reg) = parse_int(rf) else {
+            let number_field = card.field(number_at.0, number_at.1);
+            let Some(number) = parse_int(number_field) else {
                 self.error(
                     card.line,
-                    reg_f.0,
-                    reg_f.1,
+                    number_at.0,
+                    number_at.1,
                     format!(
                         "{}: expected a region number on an ident card, found \"{}\"",
-                        at(card.line, reg_f.0, reg_f.1),
-                        rf.trim()
+                        at(card.line, number_at.0, number_at.1),
+                        number_field.trim()
                     ),
                 );
                 continue;
             };
-            if reg <= 0 {
-                if let Some(c) = self.peek() {
-                    self.warn(c.line, 1, 0, format!("line {}: cards after the ident table's end (region {reg} on line {}) are ignored", c.line, card.line));
+            if number <= 0 {
+                if let Some(next) = self.peek() {
+                    self.warn(next.line, 1, 0, format!("line {}: cards after the ident table's end (region {number} on line {}) are ignored", next.line, card.line));
                 }
                 self.pos = self.cards.len();
                 return;
             }
-            let Some(&ri) = by_number.get(&reg) else {
+            let Some(&index) = by_number.get(&number) else {
                 self.error(
                     card.line,
-                    reg_f.0,
-                    reg_f.1,
+                    number_at.0,
+                    number_at.1,
                     format!(
-                        "{}: ident card for region {reg}, which the region table does not define",
-                        at(card.line, reg_f.0, reg_f.1)
+                        "{}: ident card for region {number}, which the region table does not define",
+                        at(card.line, number_at.0, number_at.1)
                     ),
                 );
                 continue;
             };
-            if let Some(first) = seen.insert(ri, card.line) {
-                self.warn(card.line, reg_f.0, reg_f.1, format!("{}: second ident card for region {reg} (first on line {first}); this one is used", at(card.line, reg_f.0, reg_f.1)));
+            if let Some(first) = seen.insert(index, card.line) {
+                self.warn(card.line, number_at.0, number_at.1, format!("{}: second ident card for region {number} (first on line {first}); this one is used", at(card.line, number_at.0, number_at.1)));
             }
             let names = [
                 "ident code",
@@ -259,7 +268,7 @@ impl<'a> Reader<'a> {
                 "material code",
                 "line-of-sight percent",
             ];
-            let mut vals: [Option<i64>; 4] = [None; 4];
+            let mut values: [Option<i64>; 4] = [None; 4];
             let mut has_text = false;
             for (k, &(col, len)) in fields.iter().enumerate() {
                 let text = card.field(col, len);
@@ -267,7 +276,7 @@ impl<'a> Reader<'a> {
                     continue;
                 }
                 match parse_int(text) {
-                    Some(v) => vals[k] = Some(v),
+                    Some(v) => values[k] = Some(v),
                     // The GIFT sample target writes the body type in columns
                     // 75-80 of its v4 ident cards: a comment, not numbers.
                     None if !v5 && k >= 2 => has_text = true,
@@ -277,7 +286,7 @@ impl<'a> Reader<'a> {
                             col,
                             len,
                             format!(
-                                "{}: expected the {} of region {reg} (an integer), found \"{}\"",
+                                "{}: expected the {} of region {number} (an integer), found \"{}\"",
                                 at(card.line, col, len),
                                 names[k],
                                 text.trim()
@@ -289,11 +298,11 @@ impl<'a> Reader<'a> {
             if has_text {
                 textual.get_or_insert((card.line, 0)).1 += 1;
             }
-            let p = &mut props[ri];
-            p.ident = vals[0].unwrap_or(0);
-            p.air = vals[1].unwrap_or(0);
-            p.material = vals[2].unwrap_or(0);
-            p.los = vals[3].unwrap_or(100);
+            let region_props = &mut props[index];
+            region_props.ident = values[0].unwrap_or(0);
+            region_props.air = values[1].unwrap_or(0);
+            region_props.material = values[2].unwrap_or(0);
+            region_props.los = values[3].unwrap_or(100);
             // When columns 75-80 are text they are part of the comment.
             let desc = if v5 {
                 card.rest(26)
@@ -304,7 +313,7 @@ impl<'a> Reader<'a> {
             };
             let desc = desc.trim();
             if !desc.is_empty() {
-                p.description = desc.to_string();
+                region_props.description = desc.to_string();
             }
         }
         if let Some((line, n)) = textual {

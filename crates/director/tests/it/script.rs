@@ -1,29 +1,15 @@
 //! The director script language: parsing, name look-up, every diagnostic
 //! with its exact text, and robustness against any input.
 
+use crate::{region, sun_and_lamp};
 use proptest::prelude::*;
 use sv_director::*;
 use sv_formats::native::{merge, Clash, MergeError};
 use sv_formats::script::build_timeline;
 use sv_formats::SourceFile;
-use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+use sv_geom::{Body, BodyKind};
 use sv_math::DVec3;
-use sv_scene::{Camera, Lens, Light, LightKind, RegionProps, Scene};
-
-fn region(name: &str, bodies: &[usize]) -> Region {
-    Region {
-        name: name.into(),
-        zones: vec![Zone {
-            terms: bodies
-                .iter()
-                .map(|&b| Term {
-                    op: Op::Inside,
-                    body: b,
-                })
-                .collect(),
-        }],
-    }
-}
+use sv_scene::{Camera, Lens, RegionProps, Scene};
 
 /// fuselage (sphere at (1,0,2)), hub, blade, ground; SUN and LAMP; a camera.
 pub(super) fn scene() -> Scene {
@@ -51,25 +37,7 @@ pub(super) fn scene() -> Scene {
         DVec3::Z,
         Lens::Fov { vertical_deg: 40.0 },
     ));
-    s.lights = vec![
-        Light {
-            name: "SUN".into(),
-            kind: LightKind::Parallel {
-                dir: DVec3::new(1.0, 1.0, -1.0),
-            },
-            intensity: 1.0,
-            colour: [1.0; 3],
-        },
-        Light {
-            name: "LAMP".into(),
-            kind: LightKind::Point {
-                pos: DVec3::new(0.0, 0.0, 20.0),
-                decay: 2.0,
-            },
-            intensity: 50.0,
-            colour: [1.0; 3],
-        },
-    ];
+    s.lights = sun_and_lamp(DVec3::new(1.0, 1.0, -1.0), 50.0);
     s
 }
 

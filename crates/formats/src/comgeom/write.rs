@@ -172,6 +172,19 @@ fn one_line(s: &str) -> String {
         .to_string()
 }
 
+/// Append `comment` to a card, from column `column + 1` on (right after
+/// the card's text when that is longer); nothing for an empty comment.
+fn with_comment(line: &mut String, column: usize, comment: &str) {
+    if !comment.is_empty() {
+        let _ = write!(
+            line,
+            "{:width$}{comment}",
+            "",
+            width = column.saturating_sub(line.len())
+        );
+    }
+}
+
 /// A deck being written: its text and the notes on what it could not keep
 /// exactly.
 #[derive(Default)]
@@ -206,13 +219,8 @@ impl Deck {
                 }
                 let _ = write!(line, "{s:>10}");
             }
-            if i == 0 && !comment.is_empty() {
-                let _ = write!(
-                    line,
-                    "{:width$}{comment}",
-                    "",
-                    width = 70usize.saturating_sub(line.len())
-                );
+            if i == 0 {
+                with_comment(&mut line, 70, comment);
             }
             self.out.push_str(line.trim_end());
             self.out.push('\n');
@@ -299,14 +307,7 @@ impl Deck {
             return Err(wrong_count(2 + 3 * curves * points));
         }
         let mut line = format!("{number:>5}{ty:<5}{curves:>10}{points:>10}");
-        if !comment.is_empty() {
-            let _ = write!(
-                line,
-                "{:width$}{comment}",
-                "",
-                width = 70 - line.len().min(70)
-            );
-        }
+        with_comment(&mut line, 70, comment);
         self.out.push_str(line.trim_end());
         self.out.push('\n');
         let what = format!("body {number} ({ty})");
@@ -364,13 +365,8 @@ impl Deck {
             for f in *chunk {
                 line.push_str(f);
             }
-            if ci == 0 && !comment.is_empty() {
-                let _ = write!(
-                    line,
-                    "{:width$}{comment}",
-                    "",
-                    width = 69usize.saturating_sub(line.len())
-                );
+            if ci == 0 {
+                with_comment(&mut line, 69, &comment);
             }
             self.out.push_str(line.trim_end());
             self.out.push('\n');

@@ -108,44 +108,47 @@ impl<'a> Cursor<'a> {
         }
     }
 
-    /// Take the next token when it is the keyword `keyword` (any case).
-    pub fn eat(&mut self, keyword: &str) -> bool {
-        let found = self.peek().is_some_and(|t| t.is(keyword));
+    /// Take the next token when `wanted` says it is the one.
+    fn eat_if(&mut self, wanted: impl Fn(&Token) -> bool) -> bool {
+        let found = self.peek().is_some_and(|t| wanted(&t));
         if found {
             self.pos += 1;
         }
         found
+    }
+
+    /// Take the next token when it is the keyword `keyword` (any case).
+    pub fn eat(&mut self, keyword: &str) -> bool {
+        self.eat_if(|t| t.is(keyword))
     }
 
     /// Take the next token when it is the punctuation character `c`.
     pub fn eat_punct(&mut self, c: char) -> bool {
-        let found = self.peek().is_some_and(|t| t.is_punct(c));
-        if found {
-            self.pos += 1;
+        self.eat_if(|t| t.is_punct(c))
+    }
+
+    /// The next token must be `what` (as `wanted` tells).
+    fn expect_if(
+        &mut self,
+        what: &str,
+        wanted: impl Fn(&Token) -> bool,
+    ) -> Result<Token<'a>, Diagnostic> {
+        let t = self.any(what)?;
+        if wanted(&t) {
+            Ok(t)
+        } else {
+            Err(self.expected(&t, what))
         }
-        found
     }
 
     /// The keyword `keyword` (any case) must come next.
     pub fn expect(&mut self, keyword: &str) -> Result<Token<'a>, Diagnostic> {
-        let what = format!("`{keyword}`");
-        let t = self.any(&what)?;
-        if t.is(keyword) {
-            Ok(t)
-        } else {
-            Err(self.expected(&t, &what))
-        }
+        self.expect_if(&format!("`{keyword}`"), |t| t.is(keyword))
     }
 
     /// The punctuation character `c` must come next.
     pub fn expect_punct(&mut self, c: char) -> Result<Token<'a>, Diagnostic> {
-        let what = format!("`{c}`");
-        let t = self.any(&what)?;
-        if t.is_punct(c) {
-            Ok(t)
-        } else {
-            Err(self.expected(&t, &what))
-        }
+        self.expect_if(&format!("`{c}`"), |t| t.is_punct(c))
     }
 
     /// A number; `purpose` says what it is for in the messages

@@ -104,6 +104,13 @@ proptest! {
             }
         }
     }
+
+    #[test]
+    fn arbitrary_geometry_text_never_panics(text in "([ -~\t]{0,30}\n){0,30}") {
+        let input = format!("GEOBEGIN                                                              COMBNAME\n{text}");
+        let _ = read_text(&input);
+        let _ = read_text(&format!("{input}\nEND\nr 5 +a\nEND\nGEOEND\n"));
+    }
 }
 
 #[test]
@@ -203,19 +210,4 @@ fn large_inputs_stay_cheap() {
         .regions
         .iter()
         .all(|p| p.description == "material: LEAD"));
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(400),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    })]
-
-    #[test]
-    fn arbitrary_geometry_text_never_panics(text in "([ -~\t]{0,30}\n){0,30}") {
-        let input = format!("GEOBEGIN                                                              COMBNAME\n{text}");
-        let _ = read_text(&input);
-        let _ = read_text(&format!("{input}\nEND\nr 5 +a\nEND\nGEOEND\n"));
-    }
 }

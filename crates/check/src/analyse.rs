@@ -1,8 +1,8 @@
 //! What one ray sees: overlaps, voids and space outside the universe.
 
 use crate::model::{Hull, Model};
-use sv_geom::{Partition, Scratch};
 use sv_math::Ray;
+use sv_trace::{Partition, Scratch};
 
 /// What kind of problem a stretch of ray is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

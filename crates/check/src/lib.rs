@@ -1,7 +1,7 @@
 //! Geometry checking: overlaps, voids, section views and volumes.
 //!
 //! Everything here is built on one primitive of the engine,
-//! [`Prepared::partitions`](sv_geom::Prepared::partitions): the stretches of
+//! [`Prepared::partitions`](sv_trace::Prepared::partitions): the stretches of
 //! a ray inside every region. Two stretches of different regions that share
 //! a piece of the ray are an *overlap*; a piece of the ray inside the
 //! declared universe that no region claims is a *void*.

@@ -1,9 +1,10 @@
 //! The model to check: the prepared geometry, region names, the declared
 //! universe and its hull.
 
-use sv_geom::{Geometry, Op, PrepareError, PrepareOptions, Prepared, Region, Warning, Zone};
+use sv_geom::{Geometry, Op, Region, Warning, Zone};
 use sv_math::Aabb;
 use sv_scene::Scene;
+use sv_trace::{PrepareError, PrepareOptions, Prepared};
 
 /// Which space the regions are declared to fill.
 #[derive(Clone, Debug, PartialEq, Eq)]

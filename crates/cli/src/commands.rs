@@ -5,12 +5,13 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
-use sv_geom::{Scratch, BODY_TYPES};
+use sv_geom::BODY_TYPES;
 use sv_math::Ray;
 use sv_output::{
     write_image, write_pfm, write_region_png, Encoding, ImageFormat, Pixels, WriteOptions,
 };
 use sv_render::{Frame, Renderer, Settings};
+use sv_trace::Scratch;
 
 pub fn run() -> Result<ExitCode, CliError> {
     let cli = Cli::parse();
@@ -235,7 +236,7 @@ fn info(a: InfoArgs) -> Result<ExitCode, CliError> {
         zones,
         transparent
     );
-    let (p, warnings) = sv_geom::Prepared::new(g, &Default::default())
+    let (p, warnings) = sv_trace::Prepared::new(g, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
     for w in warnings {
         println!("warning: {w}");
@@ -276,7 +277,7 @@ fn shoot(a: ShootArgs) -> Result<ExitCode, CliError> {
     if dir.length_squared() == 0.0 {
         return Err(input("--dir must not be zero"));
     }
-    let (p, _) = sv_geom::Prepared::new(&scene.geometry, &Default::default())
+    let (p, _) = sv_trace::Prepared::new(&scene.geometry, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
     let mut s = Scratch::new(&p);
     let ray = Ray::new(from, dir);

@@ -4,9 +4,9 @@
 
 use std::path::{Path, PathBuf};
 use sv_formats::{load_file, LoadOptions};
-use sv_geom::PrepareOptions;
 use sv_render::{Frame, Renderer, Settings};
 use sv_scene::{Light, LightKind};
+use sv_trace::PrepareOptions;
 
 fn decks() -> Vec<PathBuf> {
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks");

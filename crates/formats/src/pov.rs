@@ -32,9 +32,10 @@
 
 use std::fmt::Write as _;
 use sv_geom::shape::Shape;
-use sv_geom::{Body, BodyKind, Op, PrepareOptions, Prepared, Zone};
+use sv_geom::{Body, BodyKind, Op, Zone};
 use sv_math::{orthonormal_basis, Aabb, DVec3};
 use sv_scene::{Background, Camera, Lens, LightKind, Scene};
+use sv_trace::{PrepareOptions, Prepared};
 
 /// Write `scene` as a POV-Ray 3.7 scene for a `width`×`height` picture.
 ///

@@ -56,13 +56,13 @@ impl Bound {
     }
 
     /// The face with the flip bit ([`Bound::FLIP`] when subtracted).
-    pub(crate) fn face_flip(&self) -> u32 {
+    pub fn face_flip(&self) -> u32 {
         self.face_flip
     }
 
     /// The end at `t` on `body` with `face_flip` as [`Bound::face_flip`]
     /// gives it.
-    pub(crate) fn from_parts(t: f64, body: u32, face_flip: u32) -> Bound {
+    pub fn from_parts(t: f64, body: u32, face_flip: u32) -> Bound {
         Bound { t, body, face_flip }
     }
 }
@@ -88,7 +88,8 @@ impl Span {
     }
 }
 
-pub(crate) fn flipped(mut b: Bound) -> Bound {
+/// `b` as the end of a subtracted body: its flip bit turned over.
+pub fn flipped(mut b: Bound) -> Bound {
     b.face_flip ^= Bound::FLIP;
     b
 }
@@ -101,7 +102,7 @@ pub fn intersect(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
 /// As [`intersect`], with `y`'s `n` spans made by `y(j)` (from a body's
 /// segments, without copying them into a list first).
 #[inline]
-pub(crate) fn intersect_with(
+pub fn intersect_with(
     x: &[Span],
     n: usize,
     y: impl Fn(usize) -> Span,
@@ -133,7 +134,7 @@ pub fn subtract(x: &[Span], y: &[Span], out: &mut Vec<Span>, tol: f64) {
 /// As [`subtract`], with `y`'s `n` spans made by `y(j)` (as for
 /// [`intersect_with`]).
 #[inline]
-pub(crate) fn subtract_with(
+pub fn subtract_with(
     x: &[Span],
     n: usize,
     y: impl Fn(usize) -> Span,

@@ -1,58 +1,32 @@
-//! Combinatorial Geometry: bodies, regions and ray/region intervals.
+//! Combinatorial Geometry: what a body and a region are.
 //!
-//! A body knows only where a ray enters and leaves it ([`shape`]); the
-//! booleans of regions are a separate pass over those segments
-//! ([`boolean`]); [`Prepared`] holds the flat arrays of prepared bodies,
-//! zones and a bounding volume hierarchy that the tracer walks.
+//! The one table of body types ([`table`]), bodies and regions as written
+//! ([`Body`], [`Region`]), each body checked and turned into the form a ray
+//! is cast against ([`prepare`], [`shape`]: one file per body family, with
+//! its validation, intersection, normal, bounds and lane form), and the
+//! booleans of regions as a separate pass over a ray's segments
+//! ([`boolean`]). Tracing whole scenes (hierarchies, packets, shadows) is
+//! sv-trace's.
 //!
 //! ```
-//! use sv_geom::{Body, BodyKind, Geometry, Region, Zone, Term, Op, Prepared, PrepareOptions, Scratch};
+//! use sv_geom::{prepare, Body, BodyKind};
 //! use sv_math::{DVec3, Ray};
-//! let mut g = Geometry::default();
-//! g.bodies.push(Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]));
-//! g.regions.push(Region { name: "B".into(), zones: vec![Zone { terms: vec![Term { op: Op::Inside, body: 0 }] }] });
-//! let (p, _warnings) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
-//! let mut s = Scratch::new(&p);
-//! let hit = p.first_hit(&Ray::new(DVec3::new(0.0, 0.0, -5.0), DVec3::Z), 0.0, f64::INFINITY, &mut s).unwrap();
-//! assert!((hit.t - 4.0).abs() < 1e-12);
+//! let body = Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]);
+//! let (shape, bounds) = prepare(&body, &mut Vec::new()).unwrap();
+//! let mut segs = Vec::new();
+//! shape.shoot(&Ray::new(DVec3::new(0.0, 0.0, -5.0), DVec3::Z), &mut segs);
+//! assert_eq!((segs[0].t0, segs[0].t1), (4.0, 6.0));
+//! assert_eq!(bounds.max, DVec3::ONE);
 //! ```
 #![warn(missing_docs)]
 
+mod body;
 pub mod boolean;
-mod bvh;
-mod lightbuf;
 mod model;
-mod packet;
-mod prepare;
 pub mod shape;
-mod sight;
-mod simd;
 pub mod table;
-mod trace;
 
-pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
+pub use body::{prepare, Prepare, Warning};
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
-pub use packet::Tile;
-pub use prepare::{arb_points, ars_triangles, PrepareError, PrepareOptions, Prepared, Warning};
+pub use shape::{arb_points, ars_triangles};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};
-pub use trace::{by_entry, Crossing, Frustum, Hit, Partition, Scratch, Seen, Step};
-
-/// Numbers spread evenly over `[0, 1)` for the tests, from a 64-bit linear
-/// congruential generator started at `seed`: the same every run.
-#[cfg(test)]
-pub(crate) fn test_numbers(mut seed: u64) -> impl FnMut() -> f64 {
-    move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// The parameters of a BOX body for the tests: corner `(x, y, z)`, turned
-/// about the vertical by `(a, b)`, 0.4 high.
-#[cfg(test)]
-pub(crate) fn turned_box([x, y, z]: [f64; 3], a: f64, b: f64) -> Vec<f64> {
-    let v = [x, y, z, 2.0 * a, 2.0 * b, 0.0, -0.3 * b, 0.3 * a, 0.0];
-    [&v[..], &[0.0, 0.0, 0.4]].concat()
-}

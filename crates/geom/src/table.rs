@@ -2,6 +2,8 @@
 //! documentation, `synthavision bodies` and the transform code, so a body type
 //! is described exactly once.
 
+use crate::body::Prepare;
+use crate::shape::{cone, ellipsoid, mesh, polyhedron, quadric, rpp, sphere, torus};
 use std::fmt;
 
 /// How a parameter behaves under a transform.
@@ -45,7 +47,7 @@ const fn p(name: &'static str, kind: ParamKind, doc: &'static str) -> Param {
 use ParamKind::{Length as L, Number as N, Point as P, Vector as V};
 
 macro_rules! kinds {
-    ($($variant:ident $name:literal [$($alias:literal),*] $family:literal $doc:literal [$($param:expr),* $(,)?];)*) => {
+    ($($variant:ident $name:literal [$($alias:literal),*] $family:literal $doc:literal [$($param:expr),* $(,)?] => $prepare:path;)*) => {
         /// Every body type SynthaVision knows.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
         #[allow(missing_docs)]
@@ -60,6 +62,7 @@ macro_rules! kinds {
                 family: $family,
                 doc: $doc,
                 params: &[$($param),*],
+                prepare: $prepare,
             }),*
         ];
     };
@@ -80,6 +83,10 @@ pub struct BodyType {
     pub doc: &'static str,
     /// The parameters, in card order. Empty for ARS, whose size varies.
     pub params: &'static [Param],
+    /// Checks a body's values and makes its shape (in the body family's
+    /// file under [`crate::shape`]); [`crate::prepare`] calls it once the
+    /// values' count and finiteness are checked.
+    pub prepare: Prepare,
 }
 
 impl BodyType {
@@ -90,64 +97,64 @@ impl BodyType {
 }
 
 kinds! {
-    Sph "SPH" [] "MAGI" "sphere: centre V, radius R" [p("V", P, "centre"), p("R", L, "radius")];
+    Sph "SPH" [] "MAGI" "sphere: centre V, radius R" [p("V", P, "centre"), p("R", L, "radius")] => sphere::prepare_sph;
     Rcc "RCC" [] "MAGI" "right circular cylinder: base centre V, height vector H, radius R"
-        [p("V", P, "base centre"), p("H", V, "height vector"), p("R", L, "radius")];
+        [p("V", P, "base centre"), p("H", V, "height vector"), p("R", L, "radius")] => cone::prepare_rcc;
     Rec "REC" [] "MAGI" "right elliptic cylinder: base centre V, height H, semi-axes A and B"
-        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "semi-axis A"), p("B", V, "semi-axis B")];
+        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "semi-axis A"), p("B", V, "semi-axis B")] => cone::prepare_rec;
     Trc "TRC" [] "MAGI" "truncated right circular cone: base V, height H, radii R1 (base) and R2 (top)"
-        [p("V", P, "base centre"), p("H", V, "height vector"), p("R1", L, "base radius"), p("R2", L, "top radius")];
+        [p("V", P, "base centre"), p("H", V, "height vector"), p("R1", L, "base radius"), p("R2", L, "top radius")] => cone::prepare_trc;
     Tec "TEC" [] "MAGI" "truncated elliptic cone: base V, height H, base semi-axes A, B; top axes A/P, B/P"
-        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "base semi-axis A"), p("B", V, "base semi-axis B"), p("P", N, "ratio of base to top axes")];
+        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "base semi-axis A"), p("B", V, "base semi-axis B"), p("P", N, "ratio of base to top axes")] => cone::prepare_tec;
     Ell "ELL" [] "MAGI" "ellipsoid of revolution by its foci F1, F2 and the full major-axis length L"
-        [p("F1", P, "first focus"), p("F2", P, "second focus"), p("L", L, "length of the major axis")];
+        [p("F1", P, "first focus"), p("F2", P, "second focus"), p("L", L, "length of the major axis")] => ellipsoid::prepare_ell;
     Ell1 "ELL1" [] "GIFT" "ellipsoid of revolution: centre V, semi-major axis vector A, radius of revolution R"
-        [p("V", P, "centre"), p("A", V, "semi-major axis"), p("R", L, "radius of revolution")];
+        [p("V", P, "centre"), p("A", V, "semi-major axis"), p("R", L, "radius of revolution")] => ellipsoid::prepare_ell1;
     Ellg "ELLG" [] "BRL-CAD" "general ellipsoid: centre V, three semi-axis vectors A, B, C"
-        [p("V", P, "centre"), p("A", V, "semi-axis A"), p("B", V, "semi-axis B"), p("C", V, "semi-axis C")];
+        [p("V", P, "centre"), p("A", V, "semi-axis A"), p("B", V, "semi-axis B"), p("C", V, "semi-axis C")] => ellipsoid::prepare_ellg;
     Rpp "RPP" [] "MAGI" "axis-aligned box: xmin xmax ymin ymax zmin zmax"
-        [p("XMIN", L, "x min"), p("XMAX", L, "x max"), p("YMIN", L, "y min"), p("YMAX", L, "y max"), p("ZMIN", L, "z min"), p("ZMAX", L, "z max")];
+        [p("XMIN", L, "x min"), p("XMAX", L, "x max"), p("YMIN", L, "y min"), p("YMAX", L, "y max"), p("ZMIN", L, "z min"), p("ZMAX", L, "z max")] => rpp::prepare_rpp;
     Box "BOX" [] "MAGI" "box: vertex V and three perpendicular edge vectors"
-        [p("V", P, "vertex"), p("A", V, "edge A"), p("B", V, "edge B"), p("C", V, "edge C")];
+        [p("V", P, "vertex"), p("A", V, "edge A"), p("B", V, "edge B"), p("C", V, "edge C")] => polyhedron::prepare_box;
     Raw "RAW" ["WED"] "MAGI" "right-angle wedge: right triangle (V, V+A, V+B) swept along C"
-        [p("V", P, "vertex"), p("A", V, "leg A"), p("B", V, "leg B"), p("C", V, "sweep")];
-    Arb4 "ARB4" [] "MAGI" "tetrahedron: 4 vertices" [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, "")];
+        [p("V", P, "vertex"), p("A", V, "leg A"), p("B", V, "leg B"), p("C", V, "sweep")] => polyhedron::prepare_raw;
+    Arb4 "ARB4" [] "MAGI" "tetrahedron: 4 vertices" [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, "")] => polyhedron::prepare_arb;
     Arb5 "ARB5" [] "MAGI" "pyramid: base P1..P4, apex P5"
-        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, "")];
+        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, "")] => polyhedron::prepare_arb;
     Arb6 "ARB6" [] "MAGI" "wedge: base P1..P4, ridge P5 (over P1-P2), P6 (over P3-P4)"
-        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, "")];
-    Arb7 "ARB7" [] "MAGI" "7-vertex polyhedron" [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, ""), p("P7", P, "")];
+        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, "")] => polyhedron::prepare_arb;
+    Arb7 "ARB7" [] "MAGI" "7-vertex polyhedron" [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, ""), p("P7", P, "")] => polyhedron::prepare_arb;
     Arb8 "ARB8" [] "MAGI" "hexahedron: face P1..P4 and opposite face P5..P8"
-        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, ""), p("P7", P, ""), p("P8", P, "")];
+        [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, ""), p("P7", P, ""), p("P8", P, "")] => polyhedron::prepare_arb;
     Tgc "TGC" [] "BRL-CAD" "truncated general cone: base V, height H, base semi-axes A, B; top semi-axes C, D along A, B"
-        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "base semi-axis A"), p("B", V, "base semi-axis B"), p("C", L, "top semi-axis along A"), p("D", L, "top semi-axis along B")];
+        [p("V", P, "base centre"), p("H", V, "height vector"), p("A", V, "base semi-axis A"), p("B", V, "base semi-axis B"), p("C", L, "top semi-axis along A"), p("D", L, "top semi-axis along B")] => cone::prepare_tgc;
     Tor "TOR" [] "BRL-CAD" "torus: centre V, normal N, major radius R1, minor radius R2"
-        [p("V", P, "centre"), p("N", V, "normal"), p("R1", L, "major radius"), p("R2", L, "minor radius")];
+        [p("V", P, "centre"), p("N", V, "normal"), p("R1", L, "major radius"), p("R2", L, "minor radius")] => torus::prepare_tor;
     Haf "HAF" [] "BRL-CAD" "half-space N·x <= D: outward normal N, distance D"
-        [p("N", V, "outward normal"), p("D", L, "distance from origin along N")];
-    Ars "ARS" [] "GIFT" "faceted solid from curves of points (closed polyhedral surface)" [];
-    Xyp "XYP" [] "FLUKA" "half-space z < Z" [p("Z", L, "plane z")];
-    Xzp "XZP" [] "FLUKA" "half-space y < Y" [p("Y", L, "plane y")];
-    Yzp "YZP" [] "FLUKA" "half-space x < X" [p("X", L, "plane x")];
+        [p("N", V, "outward normal"), p("D", L, "distance from origin along N")] => polyhedron::prepare_haf;
+    Ars "ARS" [] "GIFT" "faceted solid from curves of points (closed polyhedral surface)" [] => mesh::prepare_ars;
+    Xyp "XYP" [] "FLUKA" "half-space z < Z" [p("Z", L, "plane z")] => polyhedron::prepare_axis_plane;
+    Xzp "XZP" [] "FLUKA" "half-space y < Y" [p("Y", L, "plane y")] => polyhedron::prepare_axis_plane;
+    Yzp "YZP" [] "FLUKA" "half-space x < X" [p("X", L, "plane x")] => polyhedron::prepare_axis_plane;
     Pla "PLA" [] "FLUKA" "half-space behind a plane: outward normal N, point V"
-        [p("N", V, "outward normal"), p("V", P, "point on the plane")];
+        [p("N", V, "outward normal"), p("V", P, "point on the plane")] => polyhedron::prepare_pla;
     Xcc "XCC" [] "FLUKA" "infinite circular cylinder along x: centre y, z and radius R"
-        [p("Y", L, "axis y"), p("Z", L, "axis z"), p("R", L, "radius")];
+        [p("Y", L, "axis y"), p("Z", L, "axis z"), p("R", L, "radius")] => quadric::prepare_axis_cylinder;
     Ycc "YCC" [] "FLUKA" "infinite circular cylinder along y: centre z, x and radius R"
-        [p("Z", L, "axis z"), p("X", L, "axis x"), p("R", L, "radius")];
+        [p("Z", L, "axis z"), p("X", L, "axis x"), p("R", L, "radius")] => quadric::prepare_axis_cylinder;
     Zcc "ZCC" [] "FLUKA" "infinite circular cylinder along z: centre x, y and radius R"
-        [p("X", L, "axis x"), p("Y", L, "axis y"), p("R", L, "radius")];
+        [p("X", L, "axis x"), p("Y", L, "axis y"), p("R", L, "radius")] => quadric::prepare_axis_cylinder;
     Xec "XEC" [] "FLUKA" "infinite elliptic cylinder along x: centre y, z and semi-axes Ly, Lz"
-        [p("Y", L, "axis y"), p("Z", L, "axis z"), p("LY", L, "semi-axis along y"), p("LZ", L, "semi-axis along z")];
+        [p("Y", L, "axis y"), p("Z", L, "axis z"), p("LY", L, "semi-axis along y"), p("LZ", L, "semi-axis along z")] => quadric::prepare_axis_cylinder;
     Yec "YEC" [] "FLUKA" "infinite elliptic cylinder along y: centre z, x and semi-axes Lz, Lx"
-        [p("Z", L, "axis z"), p("X", L, "axis x"), p("LZ", L, "semi-axis along z"), p("LX", L, "semi-axis along x")];
+        [p("Z", L, "axis z"), p("X", L, "axis x"), p("LZ", L, "semi-axis along z"), p("LX", L, "semi-axis along x")] => quadric::prepare_axis_cylinder;
     Zec "ZEC" [] "FLUKA" "infinite elliptic cylinder along z: centre x, y and semi-axes Lx, Ly"
-        [p("X", L, "axis x"), p("Y", L, "axis y"), p("LX", L, "semi-axis along x"), p("LY", L, "semi-axis along y")];
+        [p("X", L, "axis x"), p("Y", L, "axis y"), p("LX", L, "semi-axis along x"), p("LY", L, "semi-axis along y")] => quadric::prepare_axis_cylinder;
     Qua "QUA" [] "FLUKA" "quadric Axx x²+Ayy y²+Azz z²+Axy xy+Axz xz+Ayz yz+Ax x+Ay y+Az z+A0 < 0"
-        [p("AXX", N, ""), p("AYY", N, ""), p("AZZ", N, ""), p("AXY", N, ""), p("AXZ", N, ""), p("AYZ", N, ""), p("AX", N, ""), p("AY", N, ""), p("AZ", N, ""), p("A0", N, "")];
+        [p("AXX", N, ""), p("AYY", N, ""), p("AZZ", N, ""), p("AXY", N, ""), p("AXZ", N, ""), p("AYZ", N, ""), p("AX", N, ""), p("AY", N, ""), p("AZ", N, ""), p("A0", N, "")] => quadric::prepare_qua;
     ArbF "ARBF" [] "FLUKA" "FLUKA ARB: 8 vertices and 6 face codes such as 1234 (0 for an unused face)"
         [p("P1", P, ""), p("P2", P, ""), p("P3", P, ""), p("P4", P, ""), p("P5", P, ""), p("P6", P, ""), p("P7", P, ""), p("P8", P, ""),
-         p("F1", N, "face code"), p("F2", N, "face code"), p("F3", N, "face code"), p("F4", N, "face code"), p("F5", N, "face code"), p("F6", N, "face code")];
+         p("F1", N, "face code"), p("F2", N, "face code"), p("F3", N, "face code"), p("F4", N, "face code"), p("F5", N, "face code"), p("F6", N, "face code")] => polyhedron::prepare_arbf;
 }
 
 impl BodyKind {

@@ -17,8 +17,10 @@ pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3, Vec3A};
 
 mod aabb;
 mod frame;
+pub mod lanes;
 mod ray;
 mod raygen;
+pub mod simd;
 
 pub use aabb::Aabb;
 pub use frame::{orthonormal_basis, rotation_about_axis};

@@ -21,9 +21,9 @@ use crossbeam_utils::CachePadded;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use sv_geom::{
+use sv_trace::{
     by_entry, Frustum, Hit, LightBuffer, PointBuffer, PrepareError, PrepareOptions, Prepared,
-    Scratch, Seen, Tile, Warning,
+    RasterExtent, Scratch, Tile, Warning,
 };
 
 /// Above this many zones in the box of a tile's hit points and a point
@@ -103,7 +103,7 @@ impl<'a> Workspace<'a> {
 
 /// Where the zones may be seen on a frame's raster ([`Renderer::zone_bins`]),
 /// each with a lower bound of where the camera's rays can enter it
-/// ([`Prepared::entry_bound`], or [`Prepared::sighting`]'s for a bounded
+/// ([`Prepared::entry_bound`], or [`Prepared::place_proxy`]'s for a bounded
 /// zone).
 struct Bins {
     /// The unbounded opaque zones, which every tile lists.
@@ -365,17 +365,17 @@ impl Renderer {
 
     /// Where the bounded opaque zones may be seen on the raster of `gen`
     /// (`w`×`h` pixels): for each band of tiles, the zones whose rectangle
-    /// ([`Prepared::sighting`]) reaches it, with the columns of tiles it
+    /// ([`Prepared::place_proxy`]) reaches it, with the columns of tiles it
     /// spans, padded for rounding. Zones seen nowhere on the raster are
     /// left out; zones that may be seen anywhere are in every band. Each
     /// comes with its entry bound for the rays of `gen`, found here once
     /// rather than in every tile that lists it, where reading the zone's
     /// bounds again missed the cache; each band is in the order of
-    /// [`Prepared::by_distance`]. Made once a frame, the sightings in
+    /// [`Prepared::by_distance`]. Made once a frame, the proxies placed in
     /// parallel: a walk of the hierarchy per tile took a fifth of the time
     /// of a frame of 10,000 spheres, and a walk per band with each zone's
     /// tiles' frusta tested a third of that of 100,000. Of a 32 ms frame of
-    /// 100,000 small spheres this takes some 6 ms: the sightings 4, the
+    /// 100,000 small spheres this takes some 6 ms: placing the proxies 4, the
     /// bands and their radix sorts 1 each (a comparison sort took 3.5).
     fn zone_bins(&self, gen: &RayGen, w: usize, h: usize) -> Bins {
         let p = &self.prepared;
@@ -385,14 +385,14 @@ impl Renderer {
         let (last_row, last_col) = (h.div_ceil(TILE) - 1, w.div_ceil(TILE) - 1);
         // Each zone seen, with the bands and columns of tiles it reaches, in
         // the order of the zones (their data is then read in turn).
-        let seen: Vec<Option<(Binned, u32, u32)>> = (0..p.sightings())
+        let seen: Vec<Option<(Binned, u32, u32)>> = (0..p.raster_proxy_count())
             .into_par_iter()
             .with_min_len(1024)
             .map(|k| {
-                let (zi, seen, near) = p.sighting(k, gen);
+                let (zi, seen, near) = p.place_proxy(k, gen);
                 let rect = match seen {
-                    Seen::Nowhere => return None,
-                    Seen::Within(r) if r.iter().all(|v| v.is_finite()) => r,
+                    RasterExtent::Nowhere => return None,
+                    RasterExtent::Within(r) if r.iter().all(|v| v.is_finite()) => r,
                     _ => {
                         let b = Binned {
                             near,
@@ -1101,7 +1101,7 @@ mod tests {
                     assert!(list.is_sorted_by(|a, b| by_entry(a, b).is_lt()));
                     let list: Vec<u32> = list.iter().map(|&(_, z)| z).collect();
                     for &z in &own {
-                        if r.prepared.zone_rect(z, &gen) == Seen::Nowhere {
+                        if r.prepared.zone_rect(z, &gen) == RasterExtent::Nowhere {
                             behind += 1;
                         } else {
                             assert!(list.contains(&z), "zone {z}, tile {t} of band {band}");

@@ -1,7 +1,7 @@
 use crate::az_el;
-use sv_geom::Prepared;
 use sv_math::{Aabb, DVec3};
 use sv_scene::{Camera, Lens, Light, LightKind};
+use sv_trace::Prepared;
 
 /// Bounds to frame: the opaque regions' finite zones, else all finite
 /// zones, else a unit box.

@@ -234,7 +234,7 @@ fn brute_force(scene: &Scene, aspect: f64) -> Renderer {
     Renderer::with_options(
         scene,
         aspect,
-        sv_geom::PrepareOptions {
+        sv_trace::PrepareOptions {
             brute_force: true,
             ..Default::default()
         },

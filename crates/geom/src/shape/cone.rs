@@ -1,7 +1,12 @@
 use super::poly::roots_in;
+use super::SegLanes;
+use super::Shape;
 use super::{segments_by_classification, Seg};
-use crate::packet::{dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use crate::body::{independent, nonzero, positive, with_bounds, Warning};
+use crate::Body;
+use sv_math::lanes::{dot, mat_vec, normalize, not, sub_point, Lanes};
+use sv_math::orthonormal_basis;
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// Face numbers of cones.
@@ -92,7 +97,7 @@ impl Cone {
 
     /// Corners of the parallelograms around its two end ellipses: their
     /// hull holds the cone.
-    pub(crate) fn corners(&self) -> Vec<DVec3> {
+    pub fn corners(&self) -> Vec<DVec3> {
         let (a, b, h) = (self.f.m.x_axis, self.f.m.y_axis, self.f.m.z_axis);
         let r = 1.0 + self.k;
         super::ends((self.f.v, a, b), (self.f.v + h, a * r, b * r))
@@ -124,7 +129,7 @@ impl Cone {
     /// between base and top, then [`Cone::lateral`]'s cases, each lane
     /// taking the one its ray takes.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
         let d = mat_vec(s, &self.f.inv, r.d);
         let (zero, one) = (s.splat(0.0), s.splat(1.0));
@@ -310,7 +315,7 @@ impl Cone {
     /// [`Cone::normal`] in every lane (faces held as `f64`), operation for
     /// operation: each lane takes its face's gradient.
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
         let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
         let k = self.k;
         let z = s.mul(s.splat(-k), s.add(s.splat(1.0), s.mul(s.splat(k), q[2])));
@@ -457,4 +462,74 @@ impl GeneralCone {
 /// Largest local half-width of a cross-section over `0 <= z <= 1`.
 fn m2(k: f64) -> f64 {
     1.0f64.max(1.0 + k)
+}
+
+/// RCC: base centre V, height vector H, radius R.
+pub(crate) fn prepare_rcc(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    let h = nonzero(b.vec3(3), "height vector")?;
+    let r = positive(b.params[6], "radius")?;
+    let (u, w) = orthonormal_basis(h.normalize());
+    with_bounds(Shape::Cone(Cone::new(b.vec3(0), u * r, w * r, h, 1.0)))
+}
+
+/// The height vector H and the semi-axes A and B of an REC, TEC or TGC,
+/// which must span a volume.
+fn axes(b: &Body) -> Result<(DVec3, DVec3, DVec3), String> {
+    let (h, a, bb) = (
+        nonzero(b.vec3(3), "height vector")?,
+        nonzero(b.vec3(6), "semi-axis A")?,
+        nonzero(b.vec3(9), "semi-axis B")?,
+    );
+    independent(a, bb, h, "A, B and H")?;
+    Ok((h, a, bb))
+}
+
+/// REC: base centre V, height H, semi-axes A and B.
+pub(crate) fn prepare_rec(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    let (h, a, bb) = axes(b)?;
+    with_bounds(Shape::Cone(Cone::new(b.vec3(0), a, bb, h, 1.0)))
+}
+
+/// TRC: base V, height H, radii R1 (base) and R2 (top), one of them
+/// possibly zero (a cone with its apex at an end).
+pub(crate) fn prepare_trc(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    let h = nonzero(b.vec3(3), "height vector")?;
+    let (r1, r2) = (b.params[6], b.params[7]);
+    if r1 < 0.0 || r2 < 0.0 || (r1 == 0.0 && r2 == 0.0) {
+        return Err(format!(
+            "radii must be non-negative and not both zero (are {r1} and {r2})"
+        ));
+    }
+    let (u, w) = orthonormal_basis(h.normalize());
+    with_bounds(Shape::Cone(if r1 > 0.0 {
+        Cone::new(b.vec3(0), u * r1, w * r1, h, r2 / r1)
+    } else {
+        // Apex at the base: build it from the top down.
+        Cone::new(b.vec3(0) + h, u * r2, w * r2, -h, 0.0)
+    }))
+}
+
+/// TEC: base V, height H, base semi-axes A and B, top axes A/P and B/P.
+pub(crate) fn prepare_tec(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    let (h, a, bb) = axes(b)?;
+    let p = positive(b.params[12], "ratio P")?;
+    with_bounds(Shape::Cone(Cone::new(b.vec3(0), a, bb, h, 1.0 / p)))
+}
+
+/// TGC: base V, height H, base semi-axes A and B, top semi-axes C and D
+/// along them; a [`Cone`] when the top ellipse is similar to the base.
+pub(crate) fn prepare_tgc(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    let (h, a, bb) = axes(b)?;
+    let (c, d) = (b.params[12], b.params[13]);
+    if c < 0.0 || d < 0.0 {
+        return Err(format!(
+            "top semi-axes must be non-negative (are {c} and {d})"
+        ));
+    }
+    let (ra, rb) = (c / a.length(), d / bb.length());
+    with_bounds(if (ra - rb).abs() <= 1e-12 * ra.max(rb) {
+        Shape::Cone(Cone::new(b.vec3(0), a, bb, h, ra))
+    } else {
+        Shape::GeneralCone(GeneralCone::new(b.vec3(0), a, bb, h, ra, rb))
+    })
 }

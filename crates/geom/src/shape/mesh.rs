@@ -1,4 +1,6 @@
 use super::Seg;
+use crate::body::Warning;
+use crate::Body;
 use sv_math::{Aabb, DVec3, Ray};
 
 #[derive(Clone, Debug)]
@@ -135,4 +137,64 @@ impl Mesh {
     pub(crate) fn bounds(&self) -> Aabb {
         self.bounds
     }
+}
+
+/// ARS: curves of points joined into a closed faceted surface.
+pub(crate) fn prepare_ars(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let mesh = Mesh::new(&ars_triangles(b));
+    if mesh.triangle_count() < 4 {
+        return Err("the curves span no surface (degenerate ARS)".into());
+    }
+    let bounds = mesh.bounds();
+    Ok((super::Shape::Mesh(mesh), bounds))
+}
+
+/// An ARS's counts: at least 2 curves of at least 3 points, and three
+/// values for each point.
+pub(crate) fn check_ars_counts(b: &Body) -> Result<(), String> {
+    if b.params.len() < 2 {
+        return Err("missing curve and point counts".into());
+    }
+    let (nc, np) = (b.params[0], b.params[1]);
+    if nc.fract() != 0.0 || np.fract() != 0.0 || nc < 2.0 || np < 3.0 {
+        return Err(format!(
+            "needs at least 2 curves of at least 3 points (has {nc} curves of {np})"
+        ));
+    }
+    if b.params.len() != 2 + 3 * (nc as usize) * (np as usize) {
+        return Err(format!(
+            "{nc} curves of {np} points need {} values, found {}",
+            3.0 * nc * np,
+            b.params.len() - 2
+        ));
+    }
+    Ok(())
+}
+
+/// The triangles of an ARS: each pair of neighbouring curves joined by two
+/// triangles per point (curves are closed), and the first and last curves
+/// closed by fans (which vanish where a curve is a single point). The
+/// winding is consistent, so the mesh orients itself (see [`Mesh::new`]).
+/// `b` must be a well-formed ARS (checked by `prepare`).
+pub fn ars_triangles(b: &Body) -> Vec<[DVec3; 3]> {
+    let (nc, np) = (b.params[0] as usize, b.params[1] as usize);
+    let curve = |i: usize, j: usize| b.vec3(2 + 3 * (i * np + j % np));
+    let mut tris = Vec::with_capacity(2 * nc * np + 2 * np);
+    for i in 0..nc.saturating_sub(1) {
+        for j in 0..np {
+            let (a, bq, c, d) = (
+                curve(i, j),
+                curve(i, j + 1),
+                curve(i + 1, j + 1),
+                curve(i + 1, j),
+            );
+            tris.push([a, bq, c]);
+            tris.push([a, c, d]);
+        }
+    }
+    for j in 1..np.saturating_sub(1) {
+        tris.push([curve(0, 0), curve(0, j + 1), curve(0, j)]);
+        tris.push([curve(nc - 1, 0), curve(nc - 1, j), curve(nc - 1, j + 1)]);
+    }
+    tris
 }

@@ -6,24 +6,35 @@
 //! that results can be cached per ray and reused by every region that
 //! mentions the body. Convex bodies give at most one segment; the torus, the
 //! general TGC, quadrics and faceted ARS solids may give several.
+//!
+//! One file per body family holds everything about it: the checks of a
+//! body's values and its preparation (`prepare_…`, named in the body
+//! table, [`crate::table`]), the prepared form, where a ray enters and
+//! leaves it, its normal and bounds, and its lane form for the packet
+//! tracer. A new body type of an existing family is one function there and
+//! one table entry; a new family is one file and a [`Shape`] variant.
 
-mod cone;
-mod mesh;
+pub(crate) mod cone;
+pub(crate) mod ellipsoid;
+pub(crate) mod mesh;
 mod poly;
 pub(crate) mod polyhedron;
-mod quadric;
-mod rpp;
-mod sphere;
-mod torus;
+pub(crate) mod quadric;
+pub(crate) mod rpp;
+pub(crate) mod sphere;
+pub(crate) mod torus;
 
 pub use cone::{Cone, GeneralCone};
-pub use mesh::Mesh;
-pub use polyhedron::{Plane, Polyhedron};
-pub use quadric::{Ellipsoid, Quadric};
+pub use ellipsoid::Ellipsoid;
+pub use mesh::{ars_triangles, Mesh};
+pub use polyhedron::{arb_points, Plane, Polyhedron};
+pub use quadric::Quadric;
 pub use rpp::Rpp;
 pub use sphere::Sphere;
 pub use torus::Torus;
 
+use sv_math::lanes::Lanes;
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// The corners `c ± a ± b` of two parallelograms, given as `(c, a, b)`:
@@ -143,7 +154,7 @@ impl Shape {
     /// set: a bounded polyhedron's corners (see [`Polyhedron::corners`],
     /// `eps`), or the corners of the parallelograms around a cone's two
     /// ends or of the parallelepiped around an ellipsoid's axes.
-    pub(crate) fn hull_points(&self, eps: f64) -> Option<Vec<DVec3>> {
+    pub fn hull_points(&self, eps: f64) -> Option<Vec<DVec3>> {
         match self {
             Shape::Polyhedron(s) => s.corners(eps),
             Shape::Cone(s) => Some(s.corners()),
@@ -158,6 +169,64 @@ impl Shape {
             self,
             Shape::GeneralCone(_) | Shape::Quadric(_) | Shape::Torus(_) | Shape::Mesh(_)
         )
+    }
+}
+
+/// A convex body's segment along each lane's ray, in the lanes of `hit`:
+/// entry and exit, and the faces crossed there (small integers in `f64`).
+pub struct SegLanes<S: Simd> {
+    /// Entry.
+    pub t0: S::F,
+    /// Exit.
+    pub t1: S::F,
+    /// Face crossed on entry.
+    pub f0: S::F,
+    /// Face crossed on exit.
+    pub f1: S::F,
+    /// The lanes whose ray meets the body.
+    pub hit: S::M,
+}
+
+impl Shape {
+    /// True for the shapes [`Shape::shoot_lanes`] casts.
+    pub fn has_lanes(&self) -> bool {
+        matches!(
+            self,
+            Shape::Sphere(_)
+                | Shape::Ellipsoid(_)
+                | Shape::Cone(_)
+                | Shape::Rpp(_)
+                | Shape::Polyhedron(_)
+        )
+    }
+
+    /// [`Shape::normal`] in every lane, at points `p` on faces `face` (as
+    /// `f64`), for the shapes of [`Shape::has_lanes`] only.
+    #[inline(always)]
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+        match self {
+            Shape::Sphere(b) => b.normal_lanes(s, p),
+            Shape::Ellipsoid(b) => b.normal_lanes(s, p),
+            Shape::Cone(b) => b.normal_lanes(s, face, p),
+            Shape::Rpp(b) => b.normal_lanes(s, face),
+            Shape::Polyhedron(b) => b.normal_lanes(s, face),
+            _ => unreachable!("normals in lanes asked of a shape without them"),
+        }
+    }
+
+    /// [`Shape::shoot`] for every lane, for the shapes of
+    /// [`Shape::has_lanes`] only (convex: one segment at most); the callers
+    /// leave the others to the scalar code.
+    #[inline(always)]
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        match self {
+            Shape::Sphere(b) => b.shoot_lanes(s, r),
+            Shape::Ellipsoid(b) => b.shoot_lanes(s, r),
+            Shape::Cone(b) => b.shoot_lanes(s, r),
+            Shape::Rpp(b) => b.shoot_lanes(s, r),
+            Shape::Polyhedron(b) => b.shoot_lanes(s, r),
+            _ => unreachable!("lanes asked to cast a shape they cannot"),
+        }
     }
 }
 
@@ -217,7 +286,6 @@ pub(crate) fn segments_by_classification(
     }
     out.extend(cur);
 }
-pub(crate) use polyhedron::convex_hull_planes as polyhedron_hull;
 
 #[cfg(test)]
 mod tests {

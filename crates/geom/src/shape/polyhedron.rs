@@ -1,6 +1,10 @@
 use super::Seg;
-use crate::packet::{dot, splat3, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use crate::body::{independent, nonzero, perpendicular, Warning};
+use crate::table::BodyKind;
+use crate::Body;
+use sv_math::lanes::{dot, splat3, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A plane `n·x = d`; the inside is `n·x <= d`.
@@ -68,7 +72,7 @@ impl Polyhedron {
     /// [`Polyhedron::shoot`] in every lane, operation for operation (a lane
     /// that the scalar code would leave early stays missed).
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let zero = s.splat(0.0);
         let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
         let (mut f0, mut f1) = (zero, zero);
@@ -104,7 +108,7 @@ impl Polyhedron {
     /// can only add points, never drop a corner). `None` for a polyhedron
     /// with infinite bounds, with too many planes to try every triple, or
     /// whose corners do not pass the checks below.
-    pub(crate) fn corners(&self, eps: f64) -> Option<Vec<DVec3>> {
+    pub fn corners(&self, eps: f64) -> Option<Vec<DVec3>> {
         let n = self.planes.len();
         if !self.bounds.is_finite() || n > 12 {
             return None;
@@ -149,7 +153,7 @@ impl Polyhedron {
 
     /// [`Polyhedron::normal`] in every lane (faces held as `f64`).
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
         let mut n = [s.splat(0.0); 3];
         for (i, pl) in self.planes.iter().enumerate() {
             let here = s.eq(face, s.splat(i as f64));
@@ -250,6 +254,193 @@ fn face_area(pts: &[DVec3], n: DVec3) -> f64 {
         area += a.cross(b).dot(n);
     }
     0.5 * area.abs()
+}
+
+/// BOX: vertex V and three perpendicular edge vectors A, B, C.
+pub(crate) fn prepare_box(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
+    let (a, bb, c) = (
+        nonzero(b.vec3(3), "edge A")?,
+        nonzero(b.vec3(6), "edge B")?,
+        nonzero(b.vec3(9), "edge C")?,
+    );
+    perpendicular(a, bb, "edges A and B")?;
+    perpendicular(a, c, "edges A and C")?;
+    perpendicular(bb, c, "edges B and C")?;
+    let o = b.vec3(0);
+    let corners: Vec<DVec3> = (0..8)
+        .map(|i| o + a * (i & 1) as f64 + bb * ((i >> 1) & 1) as f64 + c * ((i >> 2) & 1) as f64)
+        .collect();
+    polyhedron_from_points(b, &corners, warnings, false)
+}
+
+/// RAW (WED): the right triangle V, V+A, V+B swept along C.
+pub(crate) fn prepare_raw(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
+    let (a, bb, c) = (
+        nonzero(b.vec3(3), "leg A")?,
+        nonzero(b.vec3(6), "leg B")?,
+        nonzero(b.vec3(9), "sweep C")?,
+    );
+    independent(a, bb, c, "A, B and C")?;
+    let o = b.vec3(0);
+    let corners = [o, o + a, o + bb, o + c, o + a + c, o + bb + c];
+    polyhedron_from_points(b, &corners, warnings, false)
+}
+
+/// ARB4 … ARB8: the convex hull of the vertices (an ARB8's faces are
+/// checked for planarity and a warning names each one that is not).
+pub(crate) fn prepare_arb(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
+    let corners = arb_points(b);
+    polyhedron_from_points(b, &corners, warnings, b.kind == BodyKind::Arb8)
+}
+
+/// FLUKA's ARB: eight vertices and six face codes such as 1234; the hull of
+/// the vertices the codes use.
+pub(crate) fn prepare_arbf(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
+    let vertices: Vec<DVec3> = (0..8).map(|i| b.vec3(3 * i)).collect();
+    let mut used = [false; 8];
+    for code in &b.params[24..30] {
+        let mut digits = code.abs().round() as u64;
+        while digits > 0 {
+            let d = (digits % 10) as usize;
+            if d == 0 || d > 8 {
+                return Err(format!(
+                    "face code {code} names vertex {d}, which does not exist"
+                ));
+            }
+            used[d - 1] = true;
+            digits /= 10;
+        }
+    }
+    let corners: Vec<DVec3> = vertices
+        .iter()
+        .zip(used)
+        .filter(|(_, u)| *u)
+        .map(|(p, _)| *p)
+        .collect();
+    if corners.len() < 4 {
+        return Err("face codes use fewer than 4 vertices".into());
+    }
+    polyhedron_from_points(b, &corners, warnings, false)
+}
+
+/// HAF: the half-space N·x <= D.
+pub(crate) fn prepare_haf(b: &Body, _: &mut Vec<Warning>) -> Prepared {
+    half_space(b.vec3(0), b.params[3])
+}
+
+/// XYP, XZP, YZP: the half-space below a plane normal to an axis.
+pub(crate) fn prepare_axis_plane(b: &Body, _: &mut Vec<Warning>) -> Prepared {
+    let normal = match b.kind {
+        BodyKind::Xyp => DVec3::Z,
+        BodyKind::Xzp => DVec3::Y,
+        _ => DVec3::X,
+    };
+    half_space(normal, b.params[0])
+}
+
+/// PLA: the half-space behind the plane through V with outward normal N.
+pub(crate) fn prepare_pla(b: &Body, _: &mut Vec<Warning>) -> Prepared {
+    let n = nonzero(b.vec3(0), "normal")?;
+    half_space(n, n.dot(b.vec3(3)))
+}
+
+/// What a body family's preparation gives.
+type Prepared = Result<(super::Shape, Aabb), String>;
+
+/// ARB4…ARB7 as the eight points of an ARB8 (BRL-CAD's conventions).
+pub fn arb_points(b: &Body) -> Vec<DVec3> {
+    let n = b.params.len() / 3;
+    let p: Vec<DVec3> = (0..n).map(|i| b.vec3(3 * i)).collect();
+    match b.kind {
+        BodyKind::Arb4 => vec![p[0], p[1], p[2], p[0], p[3], p[3], p[3], p[3]],
+        BodyKind::Arb5 => vec![p[0], p[1], p[2], p[3], p[4], p[4], p[4], p[4]],
+        BodyKind::Arb6 => vec![p[0], p[1], p[2], p[3], p[4], p[4], p[5], p[5]],
+        BodyKind::Arb7 => vec![p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[4]],
+        _ => p,
+    }
+}
+
+/// The six faces of an ARB8 by vertex numbers (1-based), as BRL-CAD names them.
+const ARB_FACES: [[usize; 4]; 6] = [
+    [1, 2, 3, 4],
+    [5, 6, 7, 8],
+    [1, 4, 8, 5],
+    [2, 3, 7, 6],
+    [1, 2, 6, 5],
+    [4, 3, 7, 8],
+];
+
+fn polyhedron_from_points(
+    b: &Body,
+    pts: &[DVec3],
+    warnings: &mut Vec<Warning>,
+    check_faces: bool,
+) -> Result<(super::Shape, Aabb), String> {
+    let bounds = Aabb::from_points(pts.iter().copied());
+    let size = bounds.diagonal();
+    if size == 0.0 {
+        return Err("all vertices coincide".into());
+    }
+    let eps = 1e-9 * size;
+    if check_faces {
+        for f in ARB_FACES {
+            let v: Vec<DVec3> = f.iter().map(|&i| pts[i - 1]).collect();
+            let mut distinct: Vec<DVec3> = Vec::new();
+            for p in &v {
+                if !distinct.iter().any(|q| (*q - *p).length() <= eps) {
+                    distinct.push(*p);
+                }
+            }
+            if distinct.len() == 4 {
+                let n = (distinct[1] - distinct[0]).cross(distinct[2] - distinct[0]);
+                if n.length() > 0.0 {
+                    let off = (distinct[3] - distinct[0]).dot(n.normalize()).abs();
+                    if off > 1e-6 * size {
+                        warnings.push(Warning {
+                            body: b.name.clone(),
+                            kind: b.kind,
+                            message: format!(
+                                "face {}{}{}{} is not planar (a vertex is {:.4} off the plane of the other three); using the convex hull of the vertices",
+                                f[0], f[1], f[2], f[3], off
+                            ),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let h = convex_hull_planes(pts, eps);
+    if h.volume <= 1e-12 * size * size * size || h.planes.len() < 4 {
+        return Err("the vertices span no volume (degenerate polyhedron)".into());
+    }
+    Ok((
+        super::Shape::Polyhedron(Polyhedron::new(h.planes, bounds)),
+        bounds,
+    ))
+}
+
+fn half_space(n: DVec3, d: f64) -> Result<(super::Shape, Aabb), String> {
+    let len = n.length();
+    if len == 0.0 {
+        return Err("normal vector is zero".into());
+    }
+    let n = n / len;
+    let d = d / len;
+    // Axis-aligned half-spaces have bounds open on one side only.
+    let mut bounds = Aabb::INFINITE;
+    for a in 0..3 {
+        if n[a].abs() == 1.0 {
+            if n[a] > 0.0 {
+                bounds.max[a] = d;
+            } else {
+                bounds.min[a] = -d;
+            }
+        }
+    }
+    Ok((
+        super::Shape::Polyhedron(Polyhedron::new(vec![Plane { n, d }], bounds)),
+        bounds,
+    ))
 }
 
 #[cfg(test)]

@@ -1,107 +1,8 @@
-use super::{quadratic, Seg};
-use crate::packet::{along, dot, mat_vec, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::{quadratic, Seg, Shape};
+use crate::body::{positive, Warning};
+use crate::model::{cyl_axes, quadric_matrix};
+use crate::Body;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
-
-/// An ellipsoid: the image of the unit sphere under `x = c + M u`.
-#[derive(Clone, Debug)]
-pub struct Ellipsoid {
-    c: DVec3,
-    m: DMat3,
-    inv: DMat3,
-    inv_t: DMat3,
-}
-
-impl Ellipsoid {
-    /// The ellipsoid with centre `c` and semi-axis vectors as the columns of
-    /// `m` (which must be invertible).
-    pub fn new(c: DVec3, m: DMat3) -> Ellipsoid {
-        let inv = m.inverse();
-        Ellipsoid {
-            c,
-            m,
-            inv,
-            inv_t: inv.transpose(),
-        }
-    }
-
-    /// Corners of the parallelepiped spanned by its semi-axes: their hull
-    /// holds the ellipsoid.
-    pub(crate) fn corners(&self) -> Vec<DVec3> {
-        let (a, b, h) = (self.m.x_axis, self.m.y_axis, self.m.z_axis);
-        super::ends((self.c - h, a, b), (self.c + h, a, b))
-    }
-
-    #[inline]
-    pub(crate) fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
-        let o = self.inv * (ray.origin - self.c);
-        let d = self.inv * ray.dir;
-        // In the unit sphere's frame: the closest approach to the centre,
-        // and half a chord either side, as for the sphere (one division,
-        // one root).
-        let dd = d.length_squared();
-        if dd == 0.0 {
-            return;
-        }
-        let inv = 1.0 / dd;
-        let tc = -o.dot(d) * inv;
-        let oc = o + d * tc;
-        let disc = 1.0 - oc.length_squared();
-        if disc < 0.0 {
-            return;
-        }
-        let h = (disc * inv).sqrt();
-        out.push(Seg {
-            t0: tc - h,
-            t1: tc + h,
-            f0: 0,
-            f1: 0,
-        });
-    }
-
-    /// [`Ellipsoid::shoot`] in every lane, operation for operation.
-    #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
-        let o = mat_vec(s, &self.inv, sub_point(s, r.o, self.c));
-        let d = mat_vec(s, &self.inv, r.d);
-        let dd = dot(s, d, d);
-        let (zero, one) = (s.splat(0.0), s.splat(1.0));
-        let inv = s.div(one, dd);
-        let tc = s.mul(s.neg(dot(s, o, d)), inv);
-        let oc = along(s, o, d, tc);
-        let disc = s.sub(one, dot(s, oc, oc));
-        let h = s.sqrt(s.mul(disc, inv));
-        SegLanes {
-            t0: s.sub(tc, h),
-            t1: s.add(tc, h),
-            f0: zero,
-            f1: zero,
-            hit: not(s, s.or(s.eq(dd, zero), s.lt(disc, zero))),
-        }
-    }
-
-    pub(crate) fn normal(&self, p: DVec3) -> DVec3 {
-        (self.inv_t * (self.inv * (p - self.c))).normalize()
-    }
-
-    /// [`Ellipsoid::normal`] in every lane, operation for operation.
-    #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
-        let q = mat_vec(s, &self.inv, sub_point(s, p, self.c));
-        normalize(s, mat_vec(s, &self.inv_t, q))
-    }
-
-    pub(crate) fn contains(&self, p: DVec3) -> bool {
-        (self.inv * (p - self.c)).length_squared() < 1.0
-    }
-
-    pub(crate) fn bounds(&self) -> Aabb {
-        // Half-extent along axis i is the length of row i of M.
-        let r = self.m.transpose();
-        let e = DVec3::new(r.x_axis.length(), r.y_axis.length(), r.z_axis.length());
-        Aabb::new(self.c - e, self.c + e)
-    }
-}
 
 /// A general quadric `x·Mx + 2 b·x + c < 0` (QUA and the infinite
 /// cylinders). May be unbounded and may give two segments.
@@ -206,4 +107,34 @@ impl Quadric {
     pub(crate) fn contains(&self, p: DVec3) -> bool {
         self.value(p) < 0.0
     }
+}
+
+/// XCC, YCC, ZCC, XEC, YEC, ZEC: infinite cylinders along an axis, bounded
+/// across it by their radii.
+pub(crate) fn prepare_axis_cylinder(
+    b: &Body,
+    _: &mut Vec<Warning>,
+) -> Result<(Shape, Aabb), String> {
+    let radii: &[f64] = &b.params[2..];
+    for r in radii {
+        positive(*r, "radius")?;
+    }
+    let (a1, a2) = cyl_axes(b.kind);
+    let (r1, r2) = (radii[0], *radii.last().unwrap_or(&radii[0]));
+    let mut bounds = Aabb::INFINITE;
+    bounds.min[a1] = b.params[0] - r1;
+    bounds.max[a1] = b.params[0] + r1;
+    bounds.min[a2] = b.params[1] - r2;
+    bounds.max[a2] = b.params[1] + r2;
+    let (m, linear, c) = quadric_matrix(&b.as_quadric());
+    Ok((Shape::Quadric(Quadric::new(m, linear, c)), bounds))
+}
+
+/// QUA: the ten coefficients of a quadric, not all zero.
+pub(crate) fn prepare_qua(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb), String> {
+    if b.params.iter().all(|x| *x == 0.0) {
+        return Err("all coefficients are zero".into());
+    }
+    let (m, linear, c) = quadric_matrix(&b.params);
+    Ok((Shape::Quadric(Quadric::new(m, linear, c)), Aabb::INFINITE))
 }

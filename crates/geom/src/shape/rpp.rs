@@ -1,6 +1,9 @@
 use super::Seg;
-use crate::packet::{not, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use crate::body::Warning;
+use crate::Body;
+use sv_math::lanes::{not, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// An axis-aligned box (RPP), cast by the slab method with the faces
@@ -43,7 +46,7 @@ impl Rpp {
     /// [`Rpp::shoot`] in every lane, operation for operation: each axis's
     /// [`Clip::slab`], with the faces held as `f64`.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let zero = s.splat(0.0);
         let (mut t0, mut t1) = (s.splat(f64::NEG_INFINITY), s.splat(f64::INFINITY));
         let (mut f0, mut f1) = (zero, zero);
@@ -84,7 +87,7 @@ impl Rpp {
 
     /// [`Rpp::normal`] in every lane (faces held as `f64`).
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
         [
             unit_axis(s, face, 0.0),
             unit_axis(s, face, 1.0),
@@ -153,4 +156,21 @@ impl Clip {
         }
         self.t0 <= self.t1
     }
+}
+
+/// RPP: xmin xmax ymin ymax zmin zmax, each minimum below its maximum.
+pub(crate) fn prepare_rpp(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let p = &b.params;
+    let min = DVec3::new(p[0], p[2], p[4]);
+    let max = DVec3::new(p[1], p[3], p[5]);
+    for (a, n) in ["x", "y", "z"].iter().enumerate() {
+        if min[a] >= max[a] {
+            return Err(format!(
+                "{n}min ({}) must be less than {n}max ({})",
+                min[a], max[a]
+            ));
+        }
+    }
+    let bounds = Aabb::new(min, max);
+    Ok((super::Shape::Rpp(Rpp::new(bounds)), bounds))
 }

@@ -1,6 +1,9 @@
 use super::Seg;
-use crate::packet::{back, dot, normalize, not, sub_point, Lanes, SegLanes};
-use crate::simd::Simd;
+use super::SegLanes;
+use crate::body::{positive, Warning};
+use crate::Body;
+use sv_math::lanes::{back, dot, normalize, not, sub_point, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 /// A sphere.
@@ -50,7 +53,7 @@ impl Sphere {
 
     /// [`Sphere::shoot`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let oc = sub_point(s, r.o, self.c);
         let b = dot(s, oc, r.d);
         let f = back(s, oc, r.d, b);
@@ -73,7 +76,7 @@ impl Sphere {
 
     /// [`Sphere::normal`] in every lane, operation for operation.
     #[inline(always)]
-    pub(crate) fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
+    pub fn normal_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> [S::F; 3] {
         let q = sub_point(s, p, self.c);
         let r = s.splat(self.inv_r);
         normalize(s, [s.mul(q[0], r), s.mul(q[1], r), s.mul(q[2], r)])
@@ -86,4 +89,11 @@ impl Sphere {
     pub(crate) fn bounds(&self) -> Aabb {
         Aabb::new(self.c - DVec3::splat(self.r), self.c + DVec3::splat(self.r))
     }
+}
+
+/// SPH: centre V, radius R.
+pub(crate) fn prepare_sph(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let sphere = Sphere::new(b.vec3(0), positive(b.params[3], "radius")?);
+    let bounds = sphere.bounds();
+    Ok((super::Shape::Sphere(sphere), bounds))
 }

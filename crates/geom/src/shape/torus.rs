@@ -1,5 +1,7 @@
 use super::poly::roots_in;
 use super::{segments_by_classification, Seg};
+use crate::body::{nonzero, positive, Warning};
+use crate::Body;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// A torus: centre, unit axis, major radius `r1`, minor radius `r2 < r1`.
@@ -91,4 +93,21 @@ impl Torus {
         );
         Aabb::new(self.c - e, self.c + e)
     }
+}
+
+/// TOR: centre V, normal N, major radius R1 and a smaller minor radius R2.
+pub(crate) fn prepare_tor(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shape, Aabb), String> {
+    let n = nonzero(b.vec3(3), "normal")?;
+    let (r1, r2) = (
+        positive(b.params[6], "major radius")?,
+        positive(b.params[7], "minor radius")?,
+    );
+    if r2 >= r1 {
+        return Err(format!(
+            "minor radius {r2} must be smaller than major radius {r1}"
+        ));
+    }
+    let torus = Torus::new(b.vec3(0), n, r1, r2);
+    let bounds = torus.bounds();
+    Ok((super::Shape::Torus(torus), bounds))
 }

@@ -1,3 +1,2 @@
-//! Integration tests of the geometry engine.
+//! Integration tests of the bodies.
 mod conformance;
-mod regions;

@@ -1,12 +1,13 @@
 //! Primary rays: a tile's rays traced in packets through its sorted list
 //! of zones, or through the hierarchy when the tile is crowded.
 
-use super::{dot, lane_rays, slab_lanes, splat3, Best, Lanes, MAX_LANES};
+use super::{lane_rays, NearestHit};
 use crate::bvh::{Child, WideNode, STACK, WIDTH};
 use crate::prepare::Prepared;
-use crate::simd::Simd;
 use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
+use sv_math::lanes::{dot, slab_lanes, splat3, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray, RayGen};
 
 /// A tile of a raster: the pixels of columns `x0..x1` and rows `y0..y1`.
@@ -319,7 +320,7 @@ impl Prepared {
 
     /// One packet (the lanes of `active`): its best hits among the sorted
     /// `zones` or, given none, by walking the hierarchy, written as by
-    /// [`Best::emit`]; the number of hits.
+    /// [`NearestHit::emit`]; the number of hits.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn packet<S: Simd>(
@@ -380,8 +381,8 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         sc: &mut Scratch,
-    ) -> Best<S> {
-        let mut b = Best::new(s, tmin, tmax);
+    ) -> NearestHit<S> {
+        let mut b = NearestHit::new(s, tmin, tmax);
         let mut alive = s.mask(active);
         for &(near, zi) in zones {
             // A lane stops at the first zone that cannot come nearer than
@@ -408,8 +409,8 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         sc: &mut Scratch,
-    ) -> Option<Best<S>> {
-        let mut b = Best::new(s, tmin, tmax);
+    ) -> Option<NearestHit<S>> {
+        let mut b = NearestHit::new(s, tmin, tmax);
         let act = s.mask(active);
         for &zi in &self.unbounded_opaque {
             self.consider_lanes(s, zi, r, act, &mut b, sc);

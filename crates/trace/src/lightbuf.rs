@@ -14,7 +14,7 @@
 //! not stretch the grid. A shadow test then looks at a handful of zones
 //! instead of walking the hierarchy.
 
-use crate::prepare::{Prepared, Tighter};
+use crate::prepare::{EnclosureRef, Prepared};
 use crate::trace::Scratch;
 use sv_math::{orthonormal_basis, Aabb, DVec3, Ray};
 
@@ -354,10 +354,10 @@ fn prefix(keys: &[f64], pred: impl Fn(f64) -> bool) -> usize {
 /// projection; a sphere's box, seen along a diagonal, casts a hexagon
 /// whose rectangle has three times the area of the sphere's disc.)
 fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
-    let hull = match p.tighter(zi) {
-        Tighter::Box => return None,
+    let hull = match p.enclosure(zi) {
+        EnclosureRef::Box => return None,
         // A sphere's shadow is a disc: the regular octagon around it.
-        Tighter::Ball(c, r) => {
+        EnclosureRef::Ball(c, r) => {
             let (cu, cv) = (c.dot(u), c.dot(v));
             let r = r / (std::f64::consts::PI / 8.0).cos();
             (0..8)
@@ -367,7 +367,9 @@ fn outline(p: &Prepared, zi: u32, u: DVec3, v: DVec3) -> Option<Vec<[f64; 2]>> {
                 })
                 .collect()
         }
-        Tighter::Points(pts) => convex_hull_2d(pts.iter().map(|c| [c.dot(u), c.dot(v)]).collect()),
+        EnclosureRef::Points(pts) => {
+            convex_hull_2d(pts.iter().map(|c| [c.dot(u), c.dot(v)]).collect())
+        }
     };
     (hull.len() >= 3).then_some(hull)
 }
@@ -510,7 +512,7 @@ pub struct PointBuffer {
 /// A zone seen from a point light through one face of its cube: the
 /// zone, how near the light its bounds come, the face, and the zone's
 /// rectangle on it.
-type Sighting = (u32, f64, usize, [f64; 4]);
+type ZoneOnFace = (u32, f64, usize, [f64; 4]);
 
 /// The grid over one face of a point light's cube: `n` × `n` cells over the
 /// extent from `(u0, v0)` (face coordinates) of the zones seen through the
@@ -605,7 +607,7 @@ impl PointBuffer {
         let mut big = Vec::new();
         // Each zone with the distance from the light to its bounds (rounded
         // down), once for each face it shows on with its rectangle there.
-        let mut seen: Vec<Sighting> = Vec::new();
+        let mut seen: Vec<ZoneOnFace> = Vec::new();
         for &zi in &p.bvh_opaque.items {
             let b = p.zones[zi as usize].bounds.padded(pad);
             let (lo, hi) = (b.min - pos, b.max - pos);
@@ -866,7 +868,8 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, PrepareOptions, Region};
+    use crate::PrepareOptions;
+    use sv_geom::{Body, BodyKind, Geometry, Region};
 
     /// A grid of spheres, each its own region, on a much larger ground
     /// slab (region 0).

@@ -26,13 +26,14 @@
 //! function compiled without its instruction set stays a call, and a call
 //! per operation undoes the lanes' gain.
 
-use crate::boolean::Bound;
-use crate::prepare::{PZone, Prepared};
-use crate::shape::Shape;
-use crate::simd::Simd;
+use crate::prepare::{Prepared, PreparedZone};
 use crate::trace::{Hit, Scratch};
 use std::mem::MaybeUninit;
-use sv_math::{Aabb, DMat3, DVec3, Ray};
+use sv_geom::boolean::Bound;
+use sv_geom::shape::SegLanes;
+use sv_math::lanes::{along, box_lanes, not, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
+use sv_math::{DVec3, Ray};
 
 /// The entry points of a packet method, one per instruction set:
 /// `$avx512` and `$avx2` call `Prepared::$method` with the token, compiled
@@ -51,11 +52,11 @@ macro_rules! compiled_for_each {
         pub(super) fn $any(p: &Prepared, $($arg: $ty),*) -> Option<$ret> {
             #[cfg(target_arch = "x86_64")]
             if p.packets {
-                if let Some(t) = crate::simd::Avx512::detect() {
+                if let Some(t) = sv_math::simd::Avx512::detect() {
                     // SAFETY: the token proves the processor has AVX-512F.
                     return Some(unsafe { $avx512(p, t, $($arg),*) });
                 }
-                if let Some(t) = crate::simd::Avx2::detect() {
+                if let Some(t) = sv_math::simd::Avx2::detect() {
                     // SAFETY: the token proves the processor has AVX2.
                     return Some(unsafe { $avx2(p, t, $($arg),*) });
                 }
@@ -72,7 +73,7 @@ macro_rules! compiled_for_each {
         #[allow(clippy::too_many_arguments, clippy::unused_unit)]
         pub(super) unsafe fn $avx512(
             p: &Prepared,
-            t: crate::simd::Avx512,
+            t: sv_math::simd::Avx512,
             $($arg: $ty),*
         ) -> $ret {
             p.$method(t, $($arg),*)
@@ -87,7 +88,7 @@ macro_rules! compiled_for_each {
         #[allow(clippy::too_many_arguments, clippy::unused_unit)]
         pub(super) unsafe fn $avx2(
             p: &Prepared,
-            t: crate::simd::Avx2,
+            t: sv_math::simd::Avx2,
             $($arg: $ty),*
         ) -> $ret {
             p.$method(t, $($arg),*)
@@ -101,29 +102,6 @@ mod shadow;
 pub use primary::Tile;
 #[cfg(test)]
 mod tests;
-
-/// The widest packet of any instruction set.
-pub(crate) const MAX_LANES: usize = 8;
-
-/// The rays of a packet, one vector per coordinate.
-pub(crate) struct Lanes<S: Simd> {
-    /// Origins.
-    pub o: [S::F; 3],
-    /// Unit directions.
-    pub d: [S::F; 3],
-    /// Reciprocals of the directions.
-    pub inv: [S::F; 3],
-}
-
-/// A convex body's segment along each lane's ray, in the lanes of `hit`:
-/// entry and exit, and the faces crossed there (small integers in `f64`).
-pub(crate) struct SegLanes<S: Simd> {
-    pub t0: S::F,
-    pub t1: S::F,
-    pub f0: S::F,
-    pub f1: S::F,
-    pub hit: S::M,
-}
 
 /// One end of a span in every lane: a [`Bound`] with its body and its
 /// face and flip bits held as `f64` (exact below 2⁵³), so that a lane
@@ -145,7 +123,7 @@ struct SpanLanes<S: Simd> {
 /// Each lane's best hit so far, as [`Prepared::consider`] keeps it for one
 /// ray: the lowest entry (ties to the lower region), and the limit past
 /// which no zone can do better.
-struct Best<S: Simd> {
+struct NearestHit<S: Simd> {
     tmin: S::F,
     limit: S::F,
     t: S::F,
@@ -156,11 +134,11 @@ struct Best<S: Simd> {
     a: End<S>,
 }
 
-impl<S: Simd> Best<S> {
+impl<S: Simd> NearestHit<S> {
     #[inline(always)]
-    fn new(s: S, tmin: f64, tmax: f64) -> Best<S> {
+    fn new(s: S, tmin: f64, tmax: f64) -> NearestHit<S> {
         let none = s.splat(f64::from(u32::MAX));
-        Best {
+        NearestHit {
             tmin: s.splat(tmin),
             limit: s.splat(tmax),
             t: s.splat(f64::INFINITY),
@@ -193,14 +171,14 @@ impl<S: Simd> Best<S> {
             return 0;
         }
         let (t, region, zone) = (
-            Spill::of(s, self.t),
-            Spill::of(s, self.region),
-            Spill::of(s, self.zone),
+            LaneValues::of(s, self.t),
+            LaneValues::of(s, self.region),
+            LaneValues::of(s, self.zone),
         );
         let (at, body, face) = (
-            Spill::of(s, self.a.t),
-            Spill::of(s, self.a.body),
-            Spill::of(s, self.a.face),
+            LaneValues::of(s, self.a.t),
+            LaneValues::of(s, self.a.body),
+            LaneValues::of(s, self.a.face),
         );
         let inside = s.bits(self.inside);
         let mut n = 0;
@@ -250,13 +228,13 @@ impl<S: Simd> Best<S> {
         normals: &mut [DVec3],
     ) {
         // Written only for the lanes of `in_lanes`.
-        let mut out = [const { MaybeUninit::<Spill>::uninit() }; 3];
+        let mut out = [const { MaybeUninit::<LaneValues>::uninit() }; 3];
         let mut in_lanes = 0;
         // Inside a region, or on no body: facing the ray.
         let facing = s.or(self.inside, s.eq(self.a.body, s.splat(f64::from(u32::MAX))));
         let mut todo = hit & !s.bits(facing);
         let mut one_by_one = hit & s.bits(facing);
-        let bodies = Spill::of(s, self.a.body);
+        let bodies = LaneValues::of(s, self.a.body);
         // The face without the flip bit (set for subtracted bodies), and
         // the points hit.
         let flip = s.ge(self.a.face, s.splat(FLIP));
@@ -275,11 +253,11 @@ impl<S: Simd> Best<S> {
             let lanes = shape.normal_lanes(s, face, at);
             if in_lanes == 0 {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    o.write(Spill::of(s, s.select(flip, s.neg(l), l)));
+                    o.write(LaneValues::of(s, s.select(flip, s.neg(l), l)));
                 }
             } else {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    let v = Spill::of(s, s.select(flip, s.neg(l), l));
+                    let v = LaneValues::of(s, s.select(flip, s.neg(l), l));
                     // SAFETY: written when the first group was.
                     let o = unsafe { o.assume_init_mut() };
                     for (k, x) in o.0.iter_mut().enumerate().take(S::LANES) {
@@ -313,170 +291,17 @@ impl<S: Simd> Best<S> {
 /// The flip bit of a [`Bound`], as added to a face held in `f64`.
 const FLIP: f64 = 2_147_483_648.0;
 
-/// `a · b` as glam computes it: `(x + y) + z`.
-#[inline(always)]
-pub(crate) fn dot<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> S::F {
-    s.add(
-        s.add(s.mul(a[0], b[0]), s.mul(a[1], b[1])),
-        s.mul(a[2], b[2]),
-    )
-}
-
-/// `m v` as glam computes it: the columns scaled by `v`'s coordinates and
-/// added left to right.
-#[inline(always)]
-pub(crate) fn mat_vec<S: Simd>(s: S, m: &DMat3, v: [S::F; 3]) -> [S::F; 3] {
-    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
-    [
-        row(s, x.x, y.x, z.x, v),
-        row(s, x.y, y.y, z.y, v),
-        row(s, x.z, y.z, z.z, v),
-    ]
-}
-
-/// One coordinate of [`mat_vec`].
-#[inline(always)]
-fn row<S: Simd>(s: S, a: f64, b: f64, c: f64, v: [S::F; 3]) -> S::F {
-    s.add(
-        s.add(s.mul(s.splat(a), v[0]), s.mul(s.splat(b), v[1])),
-        s.mul(s.splat(c), v[2]),
-    )
-}
-
-/// `v.normalize()` as glam computes it: `v` times one over its length.
-#[inline(always)]
-pub(crate) fn normalize<S: Simd>(s: S, v: [S::F; 3]) -> [S::F; 3] {
-    let r = s.div(s.splat(1.0), s.sqrt(dot(s, v, v)));
-    [s.mul(v[0], r), s.mul(v[1], r), s.mul(v[2], r)]
-}
-
-/// `p - c` in every lane.
-#[inline(always)]
-pub(crate) fn sub_point<S: Simd>(s: S, p: [S::F; 3], c: DVec3) -> [S::F; 3] {
-    [
-        s.sub(p[0], s.splat(c.x)),
-        s.sub(p[1], s.splat(c.y)),
-        s.sub(p[2], s.splat(c.z)),
-    ]
-}
-
-/// `a + b t` in every lane.
-#[inline(always)]
-pub(crate) fn along<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
-    [
-        s.add(a[0], s.mul(b[0], t)),
-        s.add(a[1], s.mul(b[1], t)),
-        s.add(a[2], s.mul(b[2], t)),
-    ]
-}
-
-/// `a - b t` in every lane.
-#[inline(always)]
-pub(crate) fn back<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3], t: S::F) -> [S::F; 3] {
-    [
-        s.sub(a[0], s.mul(b[0], t)),
-        s.sub(a[1], s.mul(b[1], t)),
-        s.sub(a[2], s.mul(b[2], t)),
-    ]
-}
-
-/// A point or vector in every lane.
-#[inline(always)]
-pub(crate) fn splat3<S: Simd>(s: S, v: DVec3) -> [S::F; 3] {
-    [s.splat(v.x), s.splat(v.y), s.splat(v.z)]
-}
-
-/// Lanes not set in `m`.
-#[inline(always)]
-pub(crate) fn not<S: Simd>(s: S, m: S::M) -> S::M {
-    s.andnot(s.mask(u32::MAX), m)
-}
-
-/// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
-/// [`crate::bvh`]'s `hits`, operation for operation.
-#[inline(always)]
-fn box_lanes<S: Simd>(s: S, b: &Aabb, r: &Lanes<S>, tmin: S::F, tmax: S::F) -> S::M {
-    let (lo, hi) = (b.min.to_array(), b.max.to_array());
-    slab_lanes(s, lo, hi, r, tmin, tmax).1
-}
-
-/// The slab test of the box `lo`..`hi` in every lane: each lane's entry
-/// (the greatest of `tmin` and the slabs' near ends) and the lanes whose
-/// ray meets the box within `[tmin, tmax]`.
-#[inline(always)]
-pub(crate) fn slab_lanes<S: Simd>(
-    s: S,
-    lo: [f64; 3],
-    hi: [f64; 3],
-    r: &Lanes<S>,
-    tmin: S::F,
-    tmax: S::F,
-) -> (S::F, S::M) {
-    let mut t0 = tmin;
-    let mut t1 = tmax;
-    for a in 0..3 {
-        let x0 = s.mul(s.sub(s.splat(lo[a]), r.o[a]), r.inv[a]);
-        let x1 = s.mul(s.sub(s.splat(hi[a]), r.o[a]), r.inv[a]);
-        t0 = s.max(s.min(x0, x1), t0);
-        t1 = s.min(s.max(x0, x1), t1);
-    }
-    (t0, s.le(t0, t1))
-}
-
-impl Shape {
-    /// True for the shapes [`Shape::shoot_lanes`] casts.
-    pub(crate) fn has_lanes(&self) -> bool {
-        matches!(
-            self,
-            Shape::Sphere(_)
-                | Shape::Ellipsoid(_)
-                | Shape::Cone(_)
-                | Shape::Rpp(_)
-                | Shape::Polyhedron(_)
-        )
-    }
-
-    /// [`Shape::normal`] in every lane, at points `p` on faces `face` (as
-    /// `f64`), for the shapes of [`Shape::has_lanes`] only.
-    #[inline(always)]
-    fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
-        match self {
-            Shape::Sphere(b) => b.normal_lanes(s, p),
-            Shape::Ellipsoid(b) => b.normal_lanes(s, p),
-            Shape::Cone(b) => b.normal_lanes(s, face, p),
-            Shape::Rpp(b) => b.normal_lanes(s, face),
-            Shape::Polyhedron(b) => b.normal_lanes(s, face),
-            _ => unreachable!("normals in lanes asked of a shape without them"),
-        }
-    }
-
-    /// [`Shape::shoot`] for every lane, for the shapes of
-    /// [`Shape::has_lanes`] only (convex: one segment at most); the callers
-    /// leave the others to the scalar code.
-    #[inline(always)]
-    fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
-        match self {
-            Shape::Sphere(b) => b.shoot_lanes(s, r),
-            Shape::Ellipsoid(b) => b.shoot_lanes(s, r),
-            Shape::Cone(b) => b.shoot_lanes(s, r),
-            Shape::Rpp(b) => b.shoot_lanes(s, r),
-            Shape::Polyhedron(b) => b.shoot_lanes(s, r),
-            _ => unreachable!("lanes asked to cast a shape they cannot"),
-        }
-    }
-}
-
 /// Working values of a packet's lanes, one place per lane, for the lanes
 /// left to the scalar code.
 #[derive(Clone, Copy)]
-pub(crate) struct Spill(pub [f64; MAX_LANES]);
+pub(crate) struct LaneValues(pub [f64; MAX_LANES]);
 
-impl Spill {
+impl LaneValues {
     #[inline(always)]
-    fn of<S: Simd>(s: S, x: S::F) -> Spill {
+    fn of<S: Simd>(s: S, x: S::F) -> LaneValues {
         let mut v = [0.0; MAX_LANES];
         s.store(x, &mut v);
-        Spill(v)
+        LaneValues(v)
     }
 }
 
@@ -485,15 +310,15 @@ impl Spill {
 #[inline(always)]
 fn lane_rays<S: Simd>(s: S, r: &Lanes<S>) -> [Ray; MAX_LANES] {
     let c = [
-        Spill::of(s, r.o[0]),
-        Spill::of(s, r.o[1]),
-        Spill::of(s, r.o[2]),
-        Spill::of(s, r.d[0]),
-        Spill::of(s, r.d[1]),
-        Spill::of(s, r.d[2]),
-        Spill::of(s, r.inv[0]),
-        Spill::of(s, r.inv[1]),
-        Spill::of(s, r.inv[2]),
+        LaneValues::of(s, r.o[0]),
+        LaneValues::of(s, r.o[1]),
+        LaneValues::of(s, r.o[2]),
+        LaneValues::of(s, r.d[0]),
+        LaneValues::of(s, r.d[1]),
+        LaneValues::of(s, r.d[2]),
+        LaneValues::of(s, r.inv[0]),
+        LaneValues::of(s, r.inv[1]),
+        LaneValues::of(s, r.inv[2]),
     ];
     std::array::from_fn(|j| Ray {
         origin: DVec3::new(c[0].0[j], c[1].0[j], c[2].0[j]),
@@ -511,7 +336,7 @@ impl Prepared {
         zi: u32,
         r: &Lanes<S>,
         m: S::M,
-        b: &mut Best<S>,
+        b: &mut NearestHit<S>,
         sc: &mut Scratch,
     ) {
         let z = &self.zones[zi as usize];
@@ -533,16 +358,16 @@ impl Prepared {
         if left != 0 {
             // The scalar code's answers written over the lanes'.
             let mut ends = [
-                Spill::of(s, sp.a.t),
-                Spill::of(s, sp.a.body),
-                Spill::of(s, sp.a.face),
+                LaneValues::of(s, sp.a.t),
+                LaneValues::of(s, sp.a.body),
+                LaneValues::of(s, sp.a.face),
             ];
             let found = self.spans_one_by_one(
                 z,
                 &lane_rays(s, r),
                 left,
-                &Spill::of(s, b.limit),
-                Spill::of(s, b.tmin).0[0],
+                &LaneValues::of(s, b.limit),
+                LaneValues::of(s, b.tmin).0[0],
                 sc,
                 &mut ends,
             );
@@ -589,13 +414,13 @@ impl Prepared {
     #[inline(never)]
     fn spans_one_by_one(
         &self,
-        z: &PZone,
+        z: &PreparedZone,
         rays: &[Ray; MAX_LANES],
         lanes: u32,
-        limit: &Spill,
+        limit: &LaneValues,
         tmin: f64,
         sc: &mut Scratch,
-        ends: &mut [Spill; 3],
+        ends: &mut [LaneValues; 3],
     ) -> u32 {
         let mut found = 0;
         for (j, ray) in rays.iter().enumerate() {
@@ -615,7 +440,7 @@ impl Prepared {
     }
 
     /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
-    /// zone of [`PZone::lanes`]: the span, the lanes that have one, and the
+    /// zone of [`PreparedZone::lanes`]: the span, the lanes that have one, and the
     /// lanes left to the scalar code (where the `-` bodies would leave more
     /// than two spans). Each step is [`Prepared::convex_spans`]' for one span
     /// and one segment, or the lists' for two spans and one segment.
@@ -623,7 +448,7 @@ impl Prepared {
     fn zone_lanes<S: Simd>(
         &self,
         s: S,
-        z: &PZone,
+        z: &PreparedZone,
         r: &Lanes<S>,
         m: S::M,
         lo: S::F,
@@ -704,12 +529,12 @@ impl Prepared {
                 continue;
             }
             let c = span(s, &g, b);
-            let first = cut(s, cur, c, mm, tol);
+            let first = subtract_span(s, cur, c, mm, tol);
             if !s.any(two) {
                 alive = s.and(alive, first.some);
                 (cur, next, two) = (first.one, first.other, first.both);
             } else {
-                let second = cut(s, next, c, s.and(mm, two), tol);
+                let second = subtract_span(s, next, c, s.and(mm, two), tol);
                 let (some2, both2) = (s.and(two, second.some), s.and(two, second.both));
                 // The spans left, in order: the first's, then the second's.
                 let three = s.or(s.and(first.both, some2), s.and(first.some, both2));
@@ -747,10 +572,16 @@ impl Prepared {
 }
 
 /// What is left of span `p` less span `c` in the lanes of `m` (elsewhere
-/// `p` as it was): [`crate::boolean::subtract_with`]'s step for one span and
+/// `p` as it was): [`sv_geom::boolean::subtract_with`]'s step for one span and
 /// one segment that meets it.
 #[inline(always)]
-fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> Cut<S> {
+fn subtract_span<S: Simd>(
+    s: S,
+    p: SpanLanes<S>,
+    c: SpanLanes<S>,
+    m: S::M,
+    tol: S::F,
+) -> SpanRemainder<S> {
     // Only where the segment reaches into the span.
     let m = s.and(m, s.and(s.gt(c.b.t, p.a.t), s.lt(c.a.t, p.b.t)));
     let start = p.a;
@@ -767,7 +598,7 @@ fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> C
             b: p.b,
         },
     );
-    Cut {
+    SpanRemainder {
         one: pick_span(s, m, pick_span(s, before, before_span, after_span), p),
         other: after_span,
         some: s.or(not(s, m), s.or(before, after)),
@@ -777,7 +608,7 @@ fn cut<S: Simd>(s: S, p: SpanLanes<S>, c: SpanLanes<S>, m: S::M, tol: S::F) -> C
 
 /// A span less a segment, in every lane: none, one (`one`) or two (`one`
 /// then `other`) spans.
-struct Cut<S: Simd> {
+struct SpanRemainder<S: Simd> {
     one: SpanLanes<S>,
     other: SpanLanes<S>,
     /// Lanes with one span or two.
@@ -829,7 +660,7 @@ fn pick<S: Simd>(s: S, c: S::M, x: End<S>, y: End<S>) -> End<S> {
     }
 }
 
-/// The end of a subtracted body ([`crate::boolean::flipped`] of an end
+/// The end of a subtracted body ([`sv_geom::boolean::flipped`] of an end
 /// from a shot, which has no flip bit).
 #[inline(always)]
 fn flip<S: Simd>(s: S, e: End<S>) -> End<S> {

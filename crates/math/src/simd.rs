@@ -1,6 +1,6 @@
 //! Lanes of `f64` for tracing several rays at once.
 //!
-//! The packet tracer ([`crate::packet`]) is written once, generic over
+//! The packet tracer (sv-trace's `packet` module) is written once, generic over
 //! [`Simd`], and compiled for each instruction set found at run time:
 //! AVX-512 (eight lanes) and AVX2 (four), on x86-64. [`Portable`] is the
 //! same lanes in plain arrays, for the tests on any machine.
@@ -15,7 +15,7 @@
 //! intrinsics inside them sound to call.
 
 /// A vector instruction set: `LANES` values of `f64` and masks over them.
-pub(crate) trait Simd: Copy {
+pub trait Simd: Copy {
     /// Lanes per vector.
     const LANES: usize;
     /// `LANES` values.
@@ -100,18 +100,15 @@ pub(crate) trait Simd: Copy {
 /// `P` lanes in plain arrays: the packet tracer's reference form, which
 /// runs anywhere (the tests hold the vector forms to it and to the scalar
 /// tracer, with four lanes as AVX2 has and eight as AVX-512 has).
-#[cfg(test)]
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct Portable<const P: usize>;
+pub struct Portable<const P: usize>;
 
 /// One lane at a time.
-#[cfg(test)]
 #[inline(always)]
 fn lanes<T: Copy, const P: usize>(f: impl Fn(usize) -> T) -> [T; P] {
     std::array::from_fn(f)
 }
 
-#[cfg(test)]
 impl<const P: usize> Simd for Portable<P> {
     const LANES: usize = P;
     type F = [f64; P];
@@ -220,7 +217,7 @@ impl<const P: usize> Simd for Portable<P> {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub(crate) use x86::{Avx2, Avx512};
+pub use x86::{Avx2, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
@@ -229,11 +226,11 @@ mod x86 {
 
     /// AVX-512 (the foundation set): eight lanes, masks in mask registers.
     #[derive(Clone, Copy, Debug)]
-    pub(crate) struct Avx512(());
+    pub struct Avx512(());
 
     impl Avx512 {
         /// The token, when this processor has AVX-512F.
-        pub(crate) fn detect() -> Option<Avx512> {
+        pub fn detect() -> Option<Avx512> {
             is_x86_feature_detected!("avx512f").then_some(Avx512(()))
         }
     }
@@ -374,11 +371,11 @@ mod x86 {
 
     /// AVX2: four lanes, masks as all-ones lanes.
     #[derive(Clone, Copy, Debug)]
-    pub(crate) struct Avx2(());
+    pub struct Avx2(());
 
     impl Avx2 {
         /// The token, when this processor has AVX2.
-        pub(crate) fn detect() -> Option<Avx2> {
+        pub fn detect() -> Option<Avx2> {
             is_x86_feature_detected!("avx2").then_some(Avx2(()))
         }
     }

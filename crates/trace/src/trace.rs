@@ -1,11 +1,11 @@
 //! Ray queries: the first opaque region hit (front to back, lazily), any
 //! hit (shadows), and the full list of region partitions along a ray.
 
-use crate::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound, Span};
 use crate::bvh::{hits, Bvh, Stack};
-use crate::prepare::{PZone, Prepared, Tighter};
-use crate::shape::Seg;
-use crate::sight::{entry_of, rect_of};
+use crate::prepare::{EnclosureRef, Prepared, PreparedZone};
+use crate::raster::{entry_of, rect_of};
+use sv_geom::boolean::{flipped, intersect_with, push_merged, subtract_with, Bound, Span};
+use sv_geom::shape::Seg;
 use sv_math::{Aabb, DVec3, Ray, RayGen};
 
 /// Per-thread working memory. Reused from ray to ray, so tracing allocates
@@ -172,7 +172,7 @@ impl Prepared {
     /// ray meets the zone's bounds.
     pub(crate) fn zone_spans(
         &self,
-        z: &PZone,
+        z: &PreparedZone,
         ray: &Ray,
         lo: f64,
         hi: f64,
@@ -454,7 +454,7 @@ impl Prepared {
     pub fn entry_bound(&self, zi: u32, eye: DVec3, parallel: Option<DVec3>) -> f64 {
         entry_of(
             &self.zones[zi as usize].bounds,
-            self.tighter(zi),
+            self.enclosure(zi),
             eye,
             parallel,
         )
@@ -516,22 +516,22 @@ impl Prepared {
             // the frustum can pass a box's corner and miss the ball inside,
             // or a rotor blade set at an angle across its box. Only the
             // zones left count toward `max`.
-            |zi| self.tighter_meets(zi, f),
+            |zi| self.enclosure_meets(zi, f),
         )
     }
 
     /// True when [`Prepared::frustum_zones`] would list bounded zone `zi`
     /// for frustum `f`: its box, then its ball or hull points, may meet it.
     pub fn frustum_keeps(&self, zi: u32, f: &Frustum) -> bool {
-        f.may_meet(&self.zones[zi as usize].bounds) && self.tighter_meets(zi, f)
+        f.may_meet(&self.zones[zi as usize].bounds) && self.enclosure_meets(zi, f)
     }
 
     /// The test of a zone's ball or hull points against a frustum.
-    fn tighter_meets(&self, zi: u32, f: &Frustum) -> bool {
-        match self.tighter(zi) {
-            Tighter::Box => true,
-            Tighter::Ball(c, r) => f.may_meet_ball(c, r),
-            Tighter::Points(pts) => f.may_meet_points(pts),
+    fn enclosure_meets(&self, zi: u32, f: &Frustum) -> bool {
+        match self.enclosure(zi) {
+            EnclosureRef::Box => true,
+            EnclosureRef::Ball(c, r) => f.may_meet_ball(c, r),
+            EnclosureRef::Points(pts) => f.may_meet_points(pts),
         }
     }
 
@@ -545,8 +545,8 @@ impl Prepared {
     /// tile's frustum, plane by plane, turned around: a box, ball or hull
     /// lies wholly outside a plane through the eye and a tile's edge
     /// exactly when its rectangle lies beyond that edge.
-    pub fn zone_rect(&self, zi: u32, gen: &RayGen) -> Seen {
-        rect_of(&self.zones[zi as usize].bounds, self.tighter(zi), gen)
+    pub fn zone_rect(&self, zi: u32, gen: &RayGen) -> RasterExtent {
+        rect_of(&self.zones[zi as usize].bounds, self.enclosure(zi), gen)
     }
 
     /// The zones of opaque regions that have no finite bounds (they lead
@@ -829,7 +829,7 @@ fn span(g: &Seg, body: u32) -> Span {
 /// Where a zone may be seen on a camera's raster
 /// ([`Prepared::zone_rect`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Seen {
+pub enum RasterExtent {
     /// Nowhere: it lies behind the rays.
     Nowhere,
     /// Anywhere: it reaches behind a perspective camera's eye.
@@ -969,7 +969,8 @@ impl Prepared {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Region, Term, Zone};
+    use crate::PrepareOptions;
+    use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
 
     #[test]
     fn convex_zones_held_in_hand_give_the_spans_of_the_lists() {

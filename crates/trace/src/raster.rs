@@ -1,27 +1,27 @@
 //! Zones as a camera's raster sees them, from a small copy of what that
 //! needs of each: a renderer places every bounded zone on the raster once a
-//! frame ([`Prepared::sighting`]), and 100,000 zones' boxes and balls are
+//! frame ([`Prepared::place_proxy`]), and 100,000 zones' boxes and balls are
 //! 10 MB in double precision, read anew in every frame after the rays have
 //! pushed them out of the caches.
 
-use crate::prepare::{Prepared, Tight, Tighter};
-use crate::trace::Seen;
+use crate::prepare::{Enclosure, EnclosureRef, Prepared};
+use crate::trace::RasterExtent;
 use sv_math::{Aabb, DVec3, RayGen};
 
 /// A bounded opaque zone's box, and the ball of a sphere among its `+`
 /// bodies, in single precision, rounded outward: a box and a ball that
-/// hold the zone's. 48 bytes where the zone and its [`Tight`] are 104.
+/// hold the zone's. 48 bytes where the zone and its [`Enclosure`] are 104.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Sight {
+pub(crate) struct RasterProxy {
     lo: [f32; 3],
     hi: [f32; 3],
-    tight: SightTight,
+    enclosure: ProxyEnclosure,
     zi: u32,
 }
 
-/// A [`Sight`]'s [`Tight`].
+/// A [`RasterProxy`]'s [`Enclosure`].
 #[derive(Clone, Copy, Debug)]
-enum SightTight {
+enum ProxyEnclosure {
     Box,
     /// Centre and radius.
     Ball([f32; 4]),
@@ -49,33 +49,33 @@ fn up(v: f64) -> f32 {
     }
 }
 
-impl Sight {
-    /// Zone `zi`'s, from its box and [`Tight`].
-    pub(crate) fn new(zi: u32, b: &Aabb, t: &Tight) -> Sight {
-        let tight = match *t {
-            Tight::Box => SightTight::Box,
-            Tight::Points(..) => SightTight::Hull,
-            Tight::Ball(c, r) => {
+impl RasterProxy {
+    /// Zone `zi`'s, from its box and [`Enclosure`].
+    pub(crate) fn new(zi: u32, b: &Aabb, t: &Enclosure) -> RasterProxy {
+        let enclosure = match *t {
+            Enclosure::Box => ProxyEnclosure::Box,
+            Enclosure::Points(..) => ProxyEnclosure::Hull,
+            Enclosure::Ball(c, r) => {
                 let c32 = c.to_array().map(|v| v as f32);
                 // The radius grown by how far the centre moved.
                 let moved = (c - DVec3::from(c32.map(f64::from))).length();
-                SightTight::Ball([c32[0], c32[1], c32[2], up((r + moved) * (1.0 + 1e-15))])
+                ProxyEnclosure::Ball([c32[0], c32[1], c32[2], up((r + moved) * (1.0 + 1e-15))])
             }
         };
-        Sight {
+        RasterProxy {
             lo: b.min.to_array().map(down),
             hi: b.max.to_array().map(up),
-            tight,
+            enclosure,
             zi,
         }
     }
 }
 
 impl Prepared {
-    /// The bounded zones of opaque regions ([`Prepared::sighting`] takes
+    /// The bounded zones of opaque regions ([`Prepared::place_proxy`] takes
     /// their places in this order, that of the zones).
-    pub fn sightings(&self) -> usize {
-        self.sights.len()
+    pub fn raster_proxy_count(&self) -> usize {
+        self.raster_proxies.len()
     }
 
     /// The `k`th bounded zone of an opaque region (counting in the order of
@@ -87,32 +87,32 @@ impl Prepared {
     /// those of a box and ball grown by single precision's rounding, a
     /// ten-millionth of their coordinates (a small part of a pixel but
     /// close to the eye); this reads 48 bytes of the zone, not 104.
-    pub fn sighting(&self, k: usize, gen: &RayGen) -> (u32, Seen, f32) {
-        let s = &self.sights[k];
+    pub fn place_proxy(&self, k: usize, gen: &RayGen) -> (u32, RasterExtent, f32) {
+        let s = &self.raster_proxies[k];
         let b = Aabb {
             min: DVec3::from(s.lo.map(f64::from)),
             max: DVec3::from(s.hi.map(f64::from)),
         };
-        let tight = match s.tight {
-            SightTight::Box => Tighter::Box,
-            SightTight::Ball(v) => {
+        let enclosure = match s.enclosure {
+            ProxyEnclosure::Box => EnclosureRef::Box,
+            ProxyEnclosure::Ball(v) => {
                 let [x, y, z, r] = v.map(f64::from);
-                Tighter::Ball(DVec3::new(x, y, z), r)
+                EnclosureRef::Ball(DVec3::new(x, y, z), r)
             }
-            SightTight::Hull => self.tighter(s.zi),
+            ProxyEnclosure::Hull => self.enclosure(s.zi),
         };
         let (eye, parallel) = (gen.eye, gen.ortho.then_some(gen.forward));
         (
             s.zi,
-            rect_of(&b, tight, gen),
-            down(entry_of(&b, tight, eye, parallel)),
+            rect_of(&b, enclosure, gen),
+            down(entry_of(&b, enclosure, eye, parallel)),
         )
     }
 }
 
-/// [`Prepared::entry_bound`] of a zone of box `b` and [`Tighter`] `t`.
+/// [`Prepared::entry_bound`] of a zone of box `b` and [`EnclosureRef`] `t`.
 #[inline]
-pub(crate) fn entry_of(b: &Aabb, t: Tighter<'_>, eye: DVec3, parallel: Option<DVec3>) -> f64 {
+pub(crate) fn entry_of(b: &Aabb, t: EnclosureRef<'_>, eye: DVec3, parallel: Option<DVec3>) -> f64 {
     let base = parallel.map_or(0.0, |d| eye.dot(d));
     let mut near = match parallel {
         None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
@@ -127,7 +127,7 @@ pub(crate) fn entry_of(b: &Aabb, t: Tighter<'_>, eye: DVec3, parallel: Option<DV
         }
     };
     // A ball inside the box may lie farther off than the box.
-    if let Tighter::Ball(c, r) = t {
+    if let EnclosureRef::Ball(c, r) = t {
         let ball = match parallel {
             None => (c - eye).length() - r,
             Some(d) => c.dot(d) - r - base,
@@ -138,9 +138,9 @@ pub(crate) fn entry_of(b: &Aabb, t: Tighter<'_>, eye: DVec3, parallel: Option<DV
     near - 1e-9 * (near.abs() + base.abs())
 }
 
-/// [`Prepared::zone_rect`] of a zone of box `b` and [`Tighter`] `t`.
+/// [`Prepared::zone_rect`] of a zone of box `b` and [`EnclosureRef`] `t`.
 #[inline]
-pub(crate) fn rect_of(b: &Aabb, t: Tighter<'_>, gen: &RayGen) -> Seen {
+pub(crate) fn rect_of(b: &Aabb, t: EnclosureRef<'_>, gen: &RayGen) -> RasterExtent {
     let corner = |i: usize| {
         DVec3::new(
             if i & 1 == 0 { b.min.x } else { b.max.x },
@@ -158,13 +158,13 @@ pub(crate) fn rect_of(b: &Aabb, t: Tighter<'_>, gen: &RayGen) -> Seen {
         + ahead(b.min.z, b.max.z, e.z, f.z)
         < 0.0
     {
-        return Seen::Nowhere;
+        return RasterExtent::Nowhere;
     }
     let boxed = || gen.raster_rect((0..8).map(corner));
     let rect = match t {
         // The ball lies in the box.
-        Tighter::Ball(c, r) => gen.ball_rect(c, r).or_else(boxed),
-        Tighter::Points(pts) => match (boxed(), gen.raster_rect(pts.iter().copied())) {
+        EnclosureRef::Ball(c, r) => gen.ball_rect(c, r).or_else(boxed),
+        EnclosureRef::Points(pts) => match (boxed(), gen.raster_rect(pts.iter().copied())) {
             (Some(a), Some(h)) => Some([
                 a[0].max(h[0]),
                 a[1].max(h[1]),
@@ -173,18 +173,19 @@ pub(crate) fn rect_of(b: &Aabb, t: Tighter<'_>, gen: &RayGen) -> Seen {
             ]),
             (a, h) => a.or(h),
         },
-        Tighter::Box => boxed(),
+        EnclosureRef::Box => boxed(),
     };
-    rect.map_or(Seen::Anywhere, Seen::Within)
+    rect.map_or(RasterExtent::Anywhere, RasterExtent::Within)
 }
 
 #[cfg(test)]
 mod tests {
-    use crate::{Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Seen, Term, Zone};
+    use crate::{PrepareOptions, Prepared, RasterExtent};
+    use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
     use sv_math::{DVec3, RayGen};
 
     #[test]
-    fn sightings_hold_the_zones_and_stay_within_a_pixel_of_them() {
+    fn raster_proxies_hold_the_zones_and_stay_within_a_pixel_of_them() {
         // Far from the origin, where single precision rounds by a
         // thousandth: spheres (balls), axis-aligned boxes (a box only),
         // turned boxes (hull points), and spheres cut by boxes (a ball and a
@@ -226,7 +227,7 @@ mod tests {
             });
         }
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
-        assert_eq!(p.sightings(), g.regions.len());
+        assert_eq!(p.raster_proxy_count(), g.regions.len());
         let centre = far + DVec3::splat(3.0);
         let views = [
             // Outside, perspective and orthographic; inside the crowd.
@@ -242,8 +243,8 @@ mod tests {
             let gen = RayGen::new(eye, right, up, forward, ortho, 640, 480);
             let parallel = ortho.then_some(forward);
             let mut last = None;
-            for k in 0..p.sightings() {
-                let (zi, seen, near) = p.sighting(k, &gen);
+            for k in 0..p.raster_proxy_count() {
+                let (zi, seen, near) = p.place_proxy(k, &gen);
                 assert!(last < Some(zi), "zones in their order");
                 last = Some(zi);
                 let exact = p.entry_bound(zi, eye, parallel);
@@ -253,10 +254,10 @@ mod tests {
                     "zone {zi}: {near} for {exact}"
                 );
                 match (p.zone_rect(zi, &gen), seen) {
-                    (Seen::Nowhere, s) => {
-                        nowhere += usize::from(s == Seen::Nowhere);
+                    (RasterExtent::Nowhere, s) => {
+                        nowhere += usize::from(s == RasterExtent::Nowhere);
                     }
-                    (Seen::Within(a), Seen::Within(b)) => {
+                    (RasterExtent::Within(a), RasterExtent::Within(b)) => {
                         // Holds it; seen from 20 units off, by less than a
                         // tenth of a pixel (close to the eye, a thousandth
                         // of a unit can be a pixel).
@@ -267,7 +268,7 @@ mod tests {
                         }
                         within += 1;
                     }
-                    (Seen::Anywhere, Seen::Anywhere) => anywhere += 1,
+                    (RasterExtent::Anywhere, RasterExtent::Anywhere) => anywhere += 1,
                     (a, b) => panic!("zone {zi}: {b:?} for {a:?}"),
                 }
             }

@@ -1,10 +1,9 @@
 //! Region classification: booleans of bodies along rays, the paper's
 //! Figure 3 walk-through, coincident faces and region volumes.
 
-use sv_geom::{
-    Body, BodyKind, Geometry, Op, PrepareOptions, Prepared, Region, Scratch, Term, Zone,
-};
+use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
 use sv_math::{DVec3, Ray};
+use sv_trace::{PrepareOptions, Prepared, Scratch};
 
 fn term(op: char, body: usize) -> Term {
     Term {

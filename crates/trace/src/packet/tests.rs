@@ -3,9 +3,10 @@
 use super::primary::*;
 use super::shadow::*;
 use super::*;
-use crate::simd::Portable;
-use crate::{Body, BodyKind, Geometry, LightBuffer, Op, PrepareOptions, Region, Term, Zone};
+use crate::{LightBuffer, PrepareOptions};
 use rand::{Rng, SeedableRng};
+use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
+use sv_math::simd::Portable;
 use sv_math::{DVec3, RayGen};
 
 /// Bodies of every kind the lanes cast, about the origin, and a few
@@ -361,7 +362,7 @@ fn packets_find_the_hits_of_rays_traced_one_by_one() {
             {
                 // SAFETY (all four): the tokens prove the instructions
                 // are there.
-                if let Some(t) = crate::simd::Avx512::detect() {
+                if let Some(t) = sv_math::simd::Avx512::detect() {
                     check("list, AVX-512", &mut |o| unsafe {
                         rays_avx512(&p, t, Some(&sorted), &rays, tmin, inf, &mut s, o)
                     });
@@ -369,7 +370,7 @@ fn packets_find_the_hits_of_rays_traced_one_by_one() {
                         rays_avx512(&p, t, None, &rays, tmin, inf, &mut s, o)
                     });
                 }
-                if let Some(t) = crate::simd::Avx2::detect() {
+                if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("list, AVX2", &mut |o| unsafe {
                         rays_avx2(&p, t, Some(&sorted), &rays, tmin, inf, &mut s, o)
                     });
@@ -489,7 +490,7 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
             assert_eq!(one, many, "eight portable lanes, batch {batch}");
             #[cfg(target_arch = "x86_64")]
             {
-                if let Some(t) = crate::simd::Avx512::detect() {
+                if let Some(t) = sv_math::simd::Avx512::detect() {
                     wrong(&mut many);
                     // SAFETY: the token proves the instructions are there.
                     unsafe {
@@ -497,7 +498,7 @@ fn shadow_packets_agree_with_shadow_rays_one_by_one() {
                     };
                     assert_eq!(one, many, "AVX-512, batch {batch}");
                 }
-                if let Some(t) = crate::simd::Avx2::detect() {
+                if let Some(t) = sv_math::simd::Avx2::detect() {
                     wrong(&mut many);
                     // SAFETY: as above.
                     unsafe { occluded_avx2(&p, t, &lb, &from, tmin, &mut last, &mut s, &mut many) };
@@ -701,7 +702,7 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                     {
                         // SAFETY (both): the tokens prove the instructions
                         // are there.
-                        if let Some(t) = crate::simd::Avx512::detect() {
+                        if let Some(t) = sv_math::simd::Avx512::detect() {
                             let mut got = Traced::new(tile.len());
                             let m = unsafe {
                                 tile_avx512(
@@ -720,7 +721,7 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                             };
                             check("AVX-512", &got, m);
                         }
-                        if let Some(t) = crate::simd::Avx2::detect() {
+                        if let Some(t) = sv_math::simd::Avx2::detect() {
                             let mut got = Traced::new(tile.len());
                             let m = unsafe {
                                 tile_avx2(

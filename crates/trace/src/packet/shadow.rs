@@ -1,10 +1,11 @@
 //! Shadow rays toward a parallel light, in packets.
 
-use super::{box_lanes, dot, splat3, Lanes, Spill, MAX_LANES};
+use super::LaneValues;
 use crate::lightbuf::{Grid, LightBuffer, Place};
-use crate::prepare::{PZone, Prepared};
-use crate::simd::Simd;
+use crate::prepare::{Prepared, PreparedZone};
 use crate::trace::Scratch;
+use sv_math::lanes::{box_lanes, dot, splat3, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
 
 impl Prepared {
@@ -97,7 +98,7 @@ impl Prepared {
             // A depth that is not a number (an origin far off at infinity)
             // lists every zone, as it does for the ray alone.
             let depth = s.select(s.eq(depth, depth), depth, s.splat(f64::NEG_INFINITY));
-            let cells = Spill::of(s, cell);
+            let cells = LaneValues::of(s, cell);
             let mut todo = active;
             while todo != 0 {
                 let j = todo.trailing_zeros() as usize;
@@ -191,7 +192,7 @@ impl Prepared {
     #[inline(never)]
     fn blocks_one_by_one(
         &self,
-        z: &PZone,
+        z: &PreparedZone,
         from: &[(DVec3, Option<u32>)],
         along: &Ray,
         lanes: u32,

@@ -1,0 +1,3 @@
+//! Integration tests of the geometry engine.
+mod bodies;
+mod regions;

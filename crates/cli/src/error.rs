@@ -2,7 +2,7 @@
 //! it.
 
 use std::process::ExitCode;
-use sv_formats::{Diagnostics, LoadError};
+use sv_formats::{Diagnostics, LoadError, Style};
 
 /// A command's failure.
 pub enum CliError {
@@ -55,21 +55,12 @@ pub fn load_failure(error: LoadError, consequence: &str) -> CliError {
 /// column, the line, a caret, a hint), then, when any is an error, how
 /// many, and `consequence` ("nothing was written").
 pub fn diagnostics_text(diagnostics: &Diagnostics, consequence: &str) -> String {
-    let handler = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        miette::GraphicalReportHandler::new()
+    let style = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        Style::Colour
     } else {
-        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+        Style::Graphical
     };
-    let mut text = String::new();
-    for diagnostic in &diagnostics.items {
-        let _ = handler.render_report(&mut text, diagnostic);
-    }
-    let errors = diagnostics.errors().count();
-    if errors > 0 {
-        let noun = if errors == 1 { "error" } else { "errors" };
-        text.push_str(&format!("{errors} {noun} found; {consequence}\n"));
-    }
-    text
+    diagnostics.report(style, Some(consequence))
 }
 
 #[cfg(test)]

@@ -34,11 +34,11 @@
 //! in a full run, or after any other frames.
 #![warn(missing_docs)]
 
+mod build;
 mod model;
 
 pub use model::{AimPoint, Axis, Change, Easing, Object, Spec, Step, Target, Timed, Zoom};
 
-use sv_geom::{BodyKind, Geometry, ParamKind};
 use sv_math::{rotation_about_axis, Aabb, DAffine3, DQuat, DVec3};
 use sv_scene::{Camera, Lens, LightKind, Scene};
 
@@ -176,176 +176,6 @@ pub struct Timeline {
 }
 
 impl Timeline {
-    /// Validate `spec` against the scene it animates and expand it. Every
-    /// problem found is returned. `base` must be the scene later passed to
-    /// [`Timeline::scene_at`].
-    pub fn new(spec: Spec, base: &Scene) -> Result<Timeline, Vec<DirectorError>> {
-        let mut errors = Vec::new();
-        let geo = &base.geometry;
-        check_indices(&spec, base, &mut errors);
-        if !errors.is_empty() {
-            return Err(errors);
-        }
-        let n = spec.objects.len();
-        // Parents, then cycles.
-        let mut parent: Vec<Option<usize>> = vec![None; n];
-        for (p, o) in spec.objects.iter().enumerate() {
-            for &c in &o.children {
-                match parent[c] {
-                    Some(q) if q != p => errors.push(DirectorError::TwoParents {
-                        object: c,
-                        name: spec.objects[c].name.clone(),
-                        first: spec.objects[q].name.clone(),
-                        second: o.name.clone(),
-                    }),
-                    _ => parent[c] = Some(p),
-                }
-            }
-        }
-        for o in 0..n {
-            let mut at = parent[o];
-            let mut steps = 0;
-            while let Some(p) = at {
-                if p == o {
-                    errors.push(DirectorError::Cycle {
-                        object: o,
-                        name: spec.objects[o].name.clone(),
-                    });
-                    break;
-                }
-                steps += 1;
-                if steps > n {
-                    break;
-                }
-                at = parent[p];
-            }
-        }
-        if !errors.is_empty() {
-            return Err(errors);
-        }
-        let subtree: Vec<Vec<usize>> = (0..n)
-            .map(|o| {
-                let mut out = vec![o];
-                let mut i = 0;
-                while i < out.len() {
-                    for &c in &spec.objects[out[i]].children {
-                        if !out.contains(&c) {
-                            out.push(c);
-                        }
-                    }
-                    i += 1;
-                }
-                out
-            })
-            .collect();
-
-        // Which objects ever move, and with which others.
-        let mut moved: Vec<usize> = Vec::new();
-        collect_moved(&spec.steps, &mut moved);
-        moved.sort_unstable();
-        moved.dedup();
-        let signature = |owner: Option<usize>| -> Vec<bool> {
-            moved
-                .iter()
-                .map(|&t| owner.is_some_and(|o| subtree[t].contains(&o)))
-                .collect()
-        };
-
-        // Body owners.
-        let nb = geo.bodies.len();
-        let mut owners: Vec<Vec<Option<usize>>> = vec![Vec::new(); nb];
-        let mut owner_region: Vec<Vec<usize>> = vec![Vec::new(); nb];
-        let mut in_object = vec![false; geo.regions.len()];
-        for (oi, o) in spec.objects.iter().enumerate() {
-            for &r in &o.regions {
-                in_object[r] = true;
-                for b in region_bodies(geo, r) {
-                    if !owners[b].contains(&Some(oi)) {
-                        owners[b].push(Some(oi));
-                        owner_region[b].push(r);
-                    }
-                }
-            }
-        }
-        for (r, used) in in_object.iter().enumerate() {
-            if !used {
-                for b in region_bodies(geo, r) {
-                    if !owners[b].contains(&None) {
-                        owners[b].push(None);
-                        owner_region[b].push(r);
-                    }
-                }
-            }
-        }
-        let owner_name = |o: Option<usize>, r: usize| match o {
-            Some(o) => Owner::Object(spec.objects[o].name.clone()),
-            None => Owner::Region(geo.regions[r].name.clone()),
-        };
-        let mut body_owner = vec![None; nb];
-        for b in 0..nb {
-            let Some(&first) = owners[b].first() else {
-                continue;
-            };
-            body_owner[b] = first;
-            let sig = signature(first);
-            for (j, &other) in owners[b].iter().enumerate().skip(1) {
-                if signature(other) != sig {
-                    errors.push(DirectorError::SharedBody {
-                        body: b,
-                        body_name: geo.bodies[b].name.clone(),
-                        first: owner_name(first, owner_region[b][0]),
-                        second: owner_name(other, owner_region[b][j]),
-                    });
-                    break;
-                }
-            }
-        }
-        let subtree_bodies = subtree
-            .iter()
-            .map(|objs| {
-                let mut v: Vec<usize> = (0..nb)
-                    .filter(|&b| {
-                        owners[b]
-                            .iter()
-                            .any(|o| o.is_some_and(|o| objs.contains(&o)))
-                    })
-                    .collect();
-                v.dedup();
-                v
-            })
-            .collect();
-
-        // Expand the steps.
-        let mut changes = Vec::new();
-        let mut blocks = Vec::new();
-        let mut frames = 0usize;
-        if expand(&spec.steps, &mut changes, &mut blocks, &mut frames).is_err() {
-            errors.push(DirectorError::TooLong);
-        }
-        if !errors.is_empty() {
-            return Err(errors);
-        }
-        let initial = FrameState {
-            xf: vec![DAffine3::IDENTITY; n],
-            camera: spec.camera.or(base.camera),
-            lights: base.lights.iter().map(|l| (l.kind, l.intensity)).collect(),
-            spins: Vec::new(),
-            track: None,
-        };
-        let ref_points = geo.bodies.iter().map(reference_points).collect();
-        Ok(Timeline {
-            spec,
-            subtree,
-            subtree_bodies,
-            body_owner,
-            ref_points,
-            changes,
-            blocks,
-            frames,
-            initial,
-        })
-    }
-
     /// The specification the timeline was built from.
     pub fn spec(&self) -> &Spec {
         &self.spec
@@ -516,20 +346,22 @@ impl Timeline {
         }
     }
 
-    fn apply(&self, s: &mut FrameState, change: &Change, f: f64) {
+    fn apply(&self, state: &mut FrameState, change: &Change, fraction: f64) {
         match *change {
             Change::Move { target, by } => {
-                let d = by * f;
+                let shift = by * fraction;
                 match target {
-                    Target::Object(o) => self.transform_object(s, o, DAffine3::from_translation(d)),
+                    Target::Object(o) => {
+                        self.transform_object(state, o, DAffine3::from_translation(shift))
+                    }
                     Target::Camera => {
-                        if let Some(c) = s.camera.as_mut() {
-                            c.eye += d;
+                        if let Some(camera) = state.camera.as_mut() {
+                            camera.eye += shift;
                         }
                     }
                     Target::Light(i) => {
-                        if let Some((LightKind::Point { pos, .. }, _)) = s.lights.get_mut(i) {
-                            *pos += d;
+                        if let Some((LightKind::Point { pos, .. }, _)) = state.lights.get_mut(i) {
+                            *pos += shift;
                         }
                     }
                 }
@@ -539,20 +371,24 @@ impl Timeline {
                 axis,
                 degrees,
             } => {
-                let (p, d) = self.axis_at(axis, s);
-                let r = rotation_about_axis(p, d, degrees * f);
+                let (point, dir) = self.axis_at(axis, state);
+                let rotation = rotation_about_axis(point, dir, degrees * fraction);
                 match target {
-                    Target::Object(o) => self.transform_object(s, o, r),
+                    Target::Object(o) => self.transform_object(state, o, rotation),
                     Target::Camera => {
-                        if let Some(c) = s.camera.as_mut() {
-                            c.eye = r.transform_point3(c.eye);
-                            c.dir = r.transform_vector3(c.dir);
-                            c.up = r.transform_vector3(c.up);
+                        if let Some(camera) = state.camera.as_mut() {
+                            camera.eye = rotation.transform_point3(camera.eye);
+                            camera.dir = rotation.transform_vector3(camera.dir);
+                            camera.up = rotation.transform_vector3(camera.up);
                         }
                     }
-                    Target::Light(i) => match s.lights.get_mut(i) {
-                        Some((LightKind::Point { pos, .. }, _)) => *pos = r.transform_point3(*pos),
-                        Some((LightKind::Parallel { dir }, _)) => *dir = r.transform_vector3(*dir),
+                    Target::Light(i) => match state.lights.get_mut(i) {
+                        Some((LightKind::Point { pos, .. }, _)) => {
+                            *pos = rotation.transform_point3(*pos)
+                        }
+                        Some((LightKind::Parallel { dir }, _)) => {
+                            *dir = rotation.transform_vector3(*dir)
+                        }
                         None => {}
                     },
                 }
@@ -560,30 +396,30 @@ impl Timeline {
             Change::Aim(at) => {
                 let target = match at {
                     AimPoint::Point(p) => p,
-                    AimPoint::Object(o) => self.object_centre(o, s),
+                    AimPoint::Object(o) => self.object_centre(o, state),
                 };
-                if let Some(c) = s.camera.as_mut() {
-                    let d1 = target - c.eye;
-                    if d1.length_squared() == 0.0 || !d1.is_finite() {
+                if let Some(camera) = state.camera.as_mut() {
+                    let to_target = target - camera.eye;
+                    if to_target.length_squared() == 0.0 || !to_target.is_finite() {
                         return;
                     }
-                    if f >= 1.0 {
-                        c.dir = d1;
+                    if fraction >= 1.0 {
+                        camera.dir = to_target;
                     } else {
-                        let a = c.dir.normalize();
-                        let q = DQuat::from_rotation_arc(a, d1.normalize());
-                        c.dir = DQuat::IDENTITY.slerp(q, f) * a;
+                        let from = camera.dir.normalize();
+                        let turn = DQuat::from_rotation_arc(from, to_target.normalize());
+                        camera.dir = DQuat::IDENTITY.slerp(turn, fraction) * from;
                     }
                 }
             }
             Change::Zoom(z) => {
-                if let Some(c) = s.camera.as_mut() {
-                    c.lens = zoom(c, z, f);
+                if let Some(camera) = state.camera.as_mut() {
+                    camera.lens = zoom(camera, z, fraction);
                 }
             }
             Change::Intensity { light, value } => {
-                if let Some((_, i)) = s.lights.get_mut(light) {
-                    *i = lerp(*i, value, f);
+                if let Some((_, intensity)) = state.lights.get_mut(light) {
+                    *intensity = lerp(*intensity, value, fraction);
                 }
             }
             Change::Spin {
@@ -591,11 +427,11 @@ impl Timeline {
                 axis,
                 degrees_per_frame,
             } => {
-                s.spins.retain(|sp| sp.0 != object);
-                s.spins.push((object, axis, degrees_per_frame));
+                state.spins.retain(|sp| sp.0 != object);
+                state.spins.push((object, axis, degrees_per_frame));
             }
-            Change::Stop { object } => s.spins.retain(|sp| sp.0 != object),
-            Change::Track(t) => s.track = t,
+            Change::Stop { object } => state.spins.retain(|sp| sp.0 != object),
+            Change::Track(t) => state.track = t,
         }
     }
 }
@@ -608,15 +444,15 @@ fn lerp(a: f64, b: f64, f: f64) -> f64 {
     }
 }
 
-fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
-    match (z, c.lens) {
+fn zoom(camera: &Camera, to: Zoom, fraction: f64) -> Lens {
+    match (to, camera.lens) {
         (Zoom::Fov(v1), Lens::Fov { vertical_deg }) => Lens::Fov {
-            vertical_deg: lerp(vertical_deg, v1, f),
+            vertical_deg: lerp(vertical_deg, v1, fraction),
         },
         (Zoom::Fov(v1), Lens::Focal { .. }) => {
-            let v0 = 2.0 * c.tan_half_fov().atan().to_degrees();
+            let v0 = 2.0 * camera.tan_half_fov().atan().to_degrees();
             Lens::Fov {
-                vertical_deg: lerp(v0, v1, f),
+                vertical_deg: lerp(v0, v1, fraction),
             }
         }
         (
@@ -626,231 +462,29 @@ fn zoom(c: &Camera, z: Zoom, f: f64) -> Lens {
                 film_height,
             },
         ) => Lens::Focal {
-            focal: lerp(f0, focal, f),
+            focal: lerp(f0, focal, fraction),
             film_height,
         },
-        (Zoom::Focal { focal, film_height }, Lens::Fov { .. }) => {
-            let f0 = film_height / (2.0 * c.tan_half_fov());
+        (
+            Zoom::Focal {
+                focal,
+                film_height: Some(film_height),
+            },
+            Lens::Fov { .. },
+        ) => {
+            let f0 = film_height / (2.0 * camera.tan_half_fov());
             Lens::Focal {
-                focal: lerp(f0, focal, f),
+                focal: lerp(f0, focal, fraction),
                 film_height,
             }
         }
         (Zoom::Height(h1), Lens::Ortho { height }) => Lens::Ortho {
-            height: lerp(height, h1, f),
+            height: lerp(height, h1, fraction),
         },
-        // A perspective setting on an orthographic camera and the reverse
-        // are refused by the script reader; here they leave the lens alone.
+        // A perspective setting on an orthographic camera and the reverse,
+        // and a focal length without a film height for a lens given as a
+        // field of view, are refused by the script reader; here they leave
+        // the lens alone.
         (_, lens) => lens,
     }
-}
-
-fn region_bodies(geo: &Geometry, r: usize) -> Vec<usize> {
-    let mut v: Vec<usize> = geo.regions[r]
-        .zones
-        .iter()
-        .flat_map(|z| z.terms.iter().map(|t| t.body))
-        .filter(|&b| b < geo.bodies.len())
-        .collect();
-    v.sort_unstable();
-    v.dedup();
-    v
-}
-
-fn reference_points(b: &sv_geom::Body) -> Vec<DVec3> {
-    let p = &b.params;
-    let at = |i: usize| -> Option<DVec3> {
-        Some(DVec3::new(*p.get(i)?, *p.get(i + 1)?, *p.get(i + 2)?))
-    };
-    let mut out = Vec::new();
-    if b.kind.is_infinite() {
-        return out;
-    }
-    match b.kind {
-        BodyKind::Rpp => {
-            if p.len() >= 6 {
-                for i in 0..8 {
-                    out.push(DVec3::new(
-                        p[i & 1],
-                        p[2 + ((i >> 1) & 1)],
-                        p[4 + ((i >> 2) & 1)],
-                    ));
-                }
-            }
-        }
-        BodyKind::Ars => {
-            let mut i = 2;
-            while let Some(q) = at(i) {
-                out.push(q);
-                i += 3;
-            }
-        }
-        _ => {
-            let mut i = 0;
-            let mut last_point = None;
-            for prm in b.kind.info().params {
-                match prm.kind {
-                    ParamKind::Point => {
-                        last_point = at(i);
-                        out.extend(last_point);
-                    }
-                    ParamKind::Vector => {
-                        if let (Some(v), Some(q)) = (at(i), last_point) {
-                            out.push(q + v);
-                        }
-                    }
-                    _ => {}
-                }
-                i += prm.kind.width();
-            }
-        }
-    }
-    out.retain(|q| q.is_finite());
-    out
-}
-
-/// Call `f` on every change of the script, inside TOGETHER and REPEAT too.
-fn each_change(steps: &[Step], f: &mut dyn FnMut(&Change)) {
-    for s in steps {
-        match s {
-            Step::Change(t) => f(&t.change),
-            Step::Together(ts) => ts.iter().for_each(|t| f(&t.change)),
-            Step::Shoot(_) => {}
-            Step::Repeat(_, body) => each_change(body, f),
-        }
-    }
-}
-
-fn check_indices(spec: &Spec, base: &Scene, errors: &mut Vec<DirectorError>) {
-    let n = spec.objects.len();
-    let mut bad = |what: &'static str, index: usize, len: usize| {
-        if index >= len {
-            errors.push(DirectorError::BadIndex { what, index });
-        }
-    };
-    for o in &spec.objects {
-        for &r in &o.regions {
-            bad("region", r, base.geometry.regions.len());
-        }
-        for &c in &o.children {
-            bad("object", c, n);
-        }
-    }
-    for a in &spec.axes {
-        if let Some(o) = a.on {
-            bad("object", o, n);
-        }
-    }
-    let na = spec.axes.len();
-    let nl = base.lights.len();
-    each_change(&spec.steps, &mut |c| {
-        let target = |t: Target, bad: &mut dyn FnMut(&'static str, usize, usize)| match t {
-            Target::Object(o) => bad("object", o, n),
-            Target::Light(l) => bad("light", l, nl),
-            Target::Camera => {}
-        };
-        match *c {
-            Change::Move { target: t, .. } => target(t, &mut bad),
-            Change::Turn {
-                target: t, axis, ..
-            } => {
-                target(t, &mut bad);
-                bad("axis", axis, na);
-            }
-            Change::Aim(AimPoint::Object(o))
-            | Change::Stop { object: o }
-            | Change::Track(Some(o)) => bad("object", o, n),
-            Change::Spin { object, axis, .. } => {
-                bad("object", object, n);
-                bad("axis", axis, na);
-            }
-            Change::Intensity { light, .. } => bad("light", light, nl),
-            Change::Aim(AimPoint::Point(_)) | Change::Zoom(_) | Change::Track(None) => {}
-        }
-    });
-    for (i, a) in spec.axes.iter().enumerate() {
-        if !(a.dir.length_squared() > 0.0 && a.dir.is_finite() && a.point.is_finite()) {
-            errors.push(DirectorError::BadAxis {
-                axis: i,
-                name: a.name.clone(),
-            });
-        }
-    }
-}
-
-fn collect_moved(steps: &[Step], out: &mut Vec<usize>) {
-    let mut one = |c: &Change| match *c {
-        Change::Move {
-            target: Target::Object(o),
-            ..
-        }
-        | Change::Turn {
-            target: Target::Object(o),
-            ..
-        }
-        | Change::Spin { object: o, .. } => out.push(o),
-        _ => {}
-    };
-    each_change(steps, &mut one);
-}
-
-struct TooLong;
-
-fn push_block(
-    changes: &mut Vec<Timed>,
-    blocks: &mut Vec<Block>,
-    frames: &mut usize,
-    items: &[Timed],
-    len: usize,
-) -> Result<(), TooLong> {
-    if items.is_empty() && len == 0 {
-        return Ok(());
-    }
-    let start = *frames;
-    let end = start
-        .checked_add(len)
-        .filter(|&e| e <= MAX_FRAMES)
-        .ok_or(TooLong)?;
-    if blocks.len() >= MAX_BLOCKS || changes.len() + items.len() > 4 * MAX_BLOCKS {
-        return Err(TooLong);
-    }
-    let c0 = changes.len();
-    changes.extend_from_slice(items);
-    blocks.push(Block {
-        start,
-        len,
-        changes: c0..changes.len(),
-    });
-    *frames = end;
-    Ok(())
-}
-
-fn expand(
-    steps: &[Step],
-    changes: &mut Vec<Timed>,
-    blocks: &mut Vec<Block>,
-    frames: &mut usize,
-) -> Result<(), TooLong> {
-    for s in steps {
-        match s {
-            Step::Change(t) => {
-                push_block(changes, blocks, frames, std::slice::from_ref(t), t.frames)?
-            }
-            Step::Together(ts) => {
-                let len = ts.iter().map(|t| t.frames).max().unwrap_or(0);
-                push_block(changes, blocks, frames, ts, len)?;
-            }
-            Step::Shoot(n) => push_block(changes, blocks, frames, &[], *n)?,
-            Step::Repeat(count, body) => {
-                for _ in 0..*count {
-                    let before = blocks.len();
-                    expand(body, changes, blocks, frames)?;
-                    if blocks.len() == before {
-                        break;
-                    }
-                }
-            }
-        }
-    }
-    Ok(())
 }

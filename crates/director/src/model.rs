@@ -60,8 +60,9 @@ pub enum Zoom {
     Focal {
         /// Pinhole to film distance.
         focal: f64,
-        /// Film height used when the lens was given as a field of view.
-        film_height: f64,
+        /// Film height used when the lens was given as a field of view;
+        /// `None` leaves such a lens alone (the script reader refuses it).
+        film_height: Option<f64>,
     },
     /// Visible height (orthographic cameras).
     Height(f64),

@@ -2,10 +2,14 @@
 //!
 //! Every reader reports problems as [`Diagnostic`]s and collects all of a
 //! file's errors into one [`Diagnostics`] value, so a user sees every problem
-//! of a deck at once. They implement [`miette::Diagnostic`]; the command line
-//! renders them with miette's graphical handler and
-//! [`Diagnostic::render_plain`] gives the same text without colour, which the
-//! golden tests compare against.
+//! of a deck at once. They implement [`miette::Diagnostic`].
+//!
+//! [`Diagnostics::report`] is the one way to show them: each diagnostic in a
+//! [`Style`] (miette's graphical report, in colour or not, or the plain
+//! `file:line:column` form of [`Diagnostic::render_plain`] that the golden
+//! tests compare against), then the count of errors (`1 error found`,
+//! `2 errors found`). [`count`] words every count of errors the readers
+//! print.
 
 use std::fmt;
 use std::sync::Arc;
@@ -64,6 +68,18 @@ impl SourceFile {
     }
 }
 
+/// A place on one line of a file: 1-based line and column and a length,
+/// both counted in characters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Span {
+    /// Line.
+    pub line: usize,
+    /// Column (characters).
+    pub col: usize,
+    /// Length (characters).
+    pub len: usize,
+}
+
 /// One problem found in an input file.
 #[derive(Clone, Debug)]
 pub struct Diagnostic {
@@ -79,6 +95,10 @@ pub struct Diagnostic {
     pub offset: usize,
     /// Byte length of the offending text (0 marks a position).
     pub len: usize,
+    /// For the line that ends a report cut short (`… and 5 more errors`):
+    /// how many errors it stands for, which are counted but not listed. 0
+    /// for every other diagnostic.
+    pub unlisted_errors: usize,
 }
 
 impl Diagnostic {
@@ -96,6 +116,7 @@ impl Diagnostic {
             source: source.clone(),
             offset,
             len,
+            unlisted_errors: 0,
         }
     }
 
@@ -110,6 +131,11 @@ impl Diagnostic {
         let start = source.offset(line, column);
         let end = source.offset(line, column + len).max(start);
         Diagnostic::error(source, start, end - start, message)
+    }
+
+    /// An error at a [`Span`] (line and column 0 count as 1).
+    pub fn error_in(source: &SourceFile, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic::error_at(source, span.line.max(1), span.col.max(1), span.len, message)
     }
 
     /// The same diagnostic as a warning.
@@ -243,6 +269,17 @@ impl Diagnostics {
         self.items.push(d);
     }
 
+    /// How many errors there are, those a cut-short report does not list
+    /// included.
+    pub fn error_count(&self) -> usize {
+        self.errors()
+            .map(|d| match d.unlisted_errors {
+                0 => 1,
+                n => n,
+            })
+            .sum()
+    }
+
     /// Errors only.
     pub fn errors(&self) -> impl Iterator<Item = &Diagnostic> {
         self.items.iter().filter(|d| d.severity == Severity::Error)
@@ -255,14 +292,73 @@ impl Diagnostics {
             .filter(|d| d.severity == Severity::Warning)
     }
 
-    /// All reports as plain text, one after another.
+    /// All reports as plain text, one after another (no count).
     pub fn render_plain(&self) -> String {
-        self.items
-            .iter()
-            .map(Diagnostic::render_plain)
-            .collect::<Vec<_>>()
-            .join("\n")
+        self.render_items(Style::Plain)
     }
+
+    /// Every diagnostic drawn in `style`, one after another.
+    fn render_items(&self, style: Style) -> String {
+        let handler = match style {
+            Style::Plain => {
+                return self
+                    .items
+                    .iter()
+                    .map(Diagnostic::render_plain)
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            }
+            Style::Graphical => {
+                miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+            }
+            Style::Colour => miette::GraphicalReportHandler::new(),
+        };
+        let mut out = String::new();
+        for d in &self.items {
+            // Writing to a String cannot fail.
+            let _ = handler.render_report(&mut out, d);
+        }
+        out
+    }
+
+    /// The report a user reads: every diagnostic drawn in `style`, then,
+    /// when there are errors, their count on a line of its own (`1 error
+    /// found`, `3 errors found`), followed by `; {consequence}` when one is
+    /// given (`nothing was written`).
+    pub fn report(&self, style: Style, consequence: Option<&str>) -> String {
+        let mut out = self.render_items(style);
+        let errors = self.error_count();
+        if errors > 0 {
+            if !out.is_empty() && !out.ends_with('\n') {
+                out.push('\n');
+            }
+            out.push_str(&count(errors, "error", "errors"));
+            out.push_str(" found");
+            if let Some(c) = consequence {
+                out.push_str("; ");
+                out.push_str(c);
+            }
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// How [`Diagnostics::report`] draws each diagnostic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// [`Diagnostic::render_plain`]: `file:line:column`, the line, a caret
+    /// and the hint, in ASCII.
+    Plain,
+    /// miette's graphical report without colour (for logs and pipes).
+    Graphical,
+    /// miette's graphical report in colour (for a terminal).
+    Colour,
+}
+
+/// `n` and the noun in the right number: `1 error`, `2 errors`.
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 impl From<Diagnostic> for Diagnostics {
@@ -273,8 +369,7 @@ impl From<Diagnostic> for Diagnostics {
 
 impl fmt::Display for Diagnostics {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let n = self.errors().count();
-        write!(f, "{n} error{}", if n == 1 { "" } else { "s" })
+        write!(f, "{}", count(self.error_count(), "error", "errors"))
     }
 }
 
@@ -326,6 +421,26 @@ mod tests {
             "error: unknown body type `SHP`\n --> scene.sv:3:8\n  |\n3 | BODY 1 SHP 0 0 0 1\n  |        ^^^\n  = hint: did you mean `SPH`?\n"
         );
         assert_eq!(d.to_string(), "scene.sv:3:8: unknown body type `SHP`");
+    }
+
+    #[test]
+    fn reports_count_their_errors() {
+        let src = SourceFile::new("a.sv", "x\ny\n");
+        let one = Diagnostics::from(Diagnostic::error_at(&src, 1, 1, 1, "bad x"));
+        assert_eq!(
+            one.report(Style::Plain, Some("nothing was written")),
+            format!("{}1 error found; nothing was written\n", one.render_plain())
+        );
+        let mut two = one.clone();
+        two.push(Diagnostic::error_at(&src, 2, 1, 1, "bad y"));
+        two.push(Diagnostic::error_at(&src, 2, 1, 1, "odd y").warning());
+        let graphical = two.report(Style::Graphical, None);
+        assert!(graphical.ends_with("\n2 errors found\n"), "{graphical}");
+        assert!(graphical.contains("bad y") && graphical.contains("odd y"));
+        let warnings = Diagnostics::from(Diagnostic::error_at(&src, 1, 1, 1, "odd").warning());
+        assert!(!warnings.report(Style::Plain, None).contains("found"));
+        assert_eq!(one.to_string(), "1 error");
+        assert_eq!(two.to_string(), "2 errors");
     }
 
     #[test]

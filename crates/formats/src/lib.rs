@@ -6,14 +6,16 @@
 //! name file, line and column; none of them panics on any input.
 #![warn(missing_docs)]
 
+mod camera_light;
 pub mod comgeom;
 pub mod diag;
 pub mod fluka;
 pub mod native;
 pub mod pov;
 pub mod script;
+mod text;
 
-pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile};
+pub use diag::{did_you_mean, Diagnostic, Diagnostics, Severity, SourceFile, Span, Style};
 use std::path::{Path, PathBuf};
 use sv_scene::Scene;
 

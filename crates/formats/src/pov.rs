@@ -34,7 +34,7 @@ use std::fmt::Write as _;
 use sv_geom::shape::Shape;
 use sv_geom::{Body, BodyKind, Op, Zone};
 use sv_math::{orthonormal_basis, Aabb, DVec3};
-use sv_scene::{Background, Lens, LightKind, Scene};
+use sv_scene::{Background, Camera, Lens, LightKind, Scene};
 use sv_trace::{PrepareOptions, Prepared};
 
 /// Write `scene` as a POV-Ray 3.7 scene for a `width`×`height` picture.
@@ -87,45 +87,56 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
         return Err(problems.join("\n"));
     }
 
-    let mut s = String::with_capacity(200 + 120 * g.bodies.len());
-    header(&mut s, scene, width, height);
+    let mut out = String::with_capacity(200 + 120 * g.bodies.len());
+    header(&mut out, scene, width, height);
     for w in &warnings {
-        let _ = writeln!(s, "// warning: {}", one_line(&w.to_string()));
+        let _ = writeln!(out, "// warning: {}", one_line(&w.to_string()));
     }
+    camera(&mut out, &cam, width, height);
+    lights(&mut out, scene, prepared.bounds());
+    out.push('\n');
+    let written = Written { uses, bodies };
+    written.declarations(&mut out, scene);
+    written.regions(&mut out, scene, &opaque);
+    Ok(out)
+}
 
-    // Camera.
-    let (_, u, f) = cam.basis();
+/// The camera: POV-Ray's perspective camera takes the horizontal angle.
+fn camera(out: &mut String, cam: &Camera, width: u32, height: u32) {
+    let (_, up, forward) = cam.basis();
     let aspect = width as f64 / height as f64;
-    let at = cam.eye + f;
+    let at = cam.eye + forward;
     match cam.lens {
         Lens::Ortho { height: h } => {
             let _ = writeln!(
-                s,
+                out,
                 "camera {{\n  orthographic\n  location {}\n  right x*{}\n  up y*{}\n  sky {}\n  look_at {}\n}}",
                 pv(cam.eye),
                 num(h * aspect),
                 num(h),
-                pv(u),
+                pv(up),
                 pv(at)
             );
         }
         _ => {
             let hfov = 2.0 * (cam.tan_half_fov() * aspect).atan().to_degrees();
             let _ = writeln!(
-                s,
+                out,
                 "camera {{\n  perspective\n  location {}\n  right x*{}\n  up y\n  sky {}\n  angle {}  // horizontal; vertical {}\n  look_at {}\n}}",
                 pv(cam.eye),
                 num(aspect),
-                pv(u),
+                pv(up),
                 num(hfov),
                 num(2.0 * cam.tan_half_fov().atan().to_degrees()),
                 pv(at)
             );
         }
     }
+}
 
-    // Lights.
-    let bounds = prepared.bounds();
+/// The lights; a parallel light is a far `parallel` light, placed from the
+/// model's `bounds`.
+fn lights(out: &mut String, scene: &Scene, bounds: Aabb) {
     let (centre, size) = if bounds.is_empty() || !bounds.is_finite() {
         (DVec3::ZERO, 1.0)
     } else {
@@ -139,7 +150,7 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
                 let d = dir.normalize();
                 let far = (1000.0 * size).max(1e4);
                 let _ = writeln!(
-                    s,
+                    out,
                     "light_source {{ {} color {} parallel point_at {}{shadow} }}  // {}",
                     pv(centre - d * far),
                     rgb(col),
@@ -149,7 +160,7 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
             }
             LightKind::Point { pos, decay: 0.0 } => {
                 let _ = writeln!(
-                    s,
+                    out,
                     "light_source {{ {} color {}{shadow} }}  // {}",
                     pv(pos),
                     rgb(col),
@@ -161,7 +172,7 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
                 let eps = 1e-4 * size;
                 let scale = 1.0 / (2.0 * eps.powf(decay));
                 let _ = writeln!(
-                    s,
+                    out,
                     "light_source {{ {} color {} fade_distance {} fade_power {}{shadow} }}  // {}: R^-{}",
                     pv(pos),
                     rgb(col.map(|c| c * scale)),
@@ -173,64 +184,75 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
             }
         }
     }
-    s.push('\n');
+}
 
-    // Bodies used more than once.
-    let mut declared = false;
-    for (i, b) in g.bodies.iter().enumerate() {
-        if uses[i] > 1 {
-            if !declared {
-                s.push_str("// bodies used by more than one term\n");
-                declared = true;
+/// The bodies as POV-Ray text, and how often the written regions use each.
+struct Written {
+    uses: Vec<usize>,
+    bodies: Vec<Option<String>>,
+}
+
+impl Written {
+    /// `#declare`s for the bodies used more than once.
+    fn declarations(&self, out: &mut String, scene: &Scene) {
+        let mut declared = false;
+        for (i, b) in scene.geometry.bodies.iter().enumerate() {
+            if self.uses[i] > 1 {
+                if !declared {
+                    out.push_str("// bodies used by more than one term\n");
+                    declared = true;
+                }
+                let text = self.bodies[i].as_deref().unwrap_or_default();
+                let _ = writeln!(
+                    out,
+                    "#declare B{i} = {text}  // {} {}",
+                    b.kind,
+                    one_line(&b.name)
+                );
             }
-            let text = bodies[i].as_deref().unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "#declare B{i} = {text}  // {} {}",
-                b.kind,
-                one_line(&b.name)
-            );
+        }
+        if declared {
+            out.push('\n');
         }
     }
-    if declared {
-        s.push('\n');
-    }
 
-    // Regions.
-    let body_ref = |i: usize| -> String {
-        if uses[i] > 1 {
+    /// A body where a zone uses it: its declaration, or its text in place.
+    fn body_ref(&self, i: usize) -> String {
+        if self.uses[i] > 1 {
             format!("object {{ B{i} }}")
         } else {
-            bodies[i].clone().unwrap_or_default()
-        }
-    };
-    let ambient = scene.ambient;
-    for &r in &opaque {
-        let reg = &g.regions[r];
-        let props = scene.regions.get(r);
-        let colour = props.and_then(|p| p.colour).unwrap_or([1.0; 3]);
-        let k = props.map_or(0.8, |p| p.k);
-        let _ = writeln!(s, "// region {}", one_line(&reg.name));
-        let zones: Vec<String> = reg.zones.iter().map(|z| zone(z, &body_ref)).collect();
-        let material = format!(
-            "pigment {{ {} }} finish {{ ambient {} diffuse {} specular 0 phong 0 brilliance 1 }}",
-            rgb(colour),
-            num(ambient),
-            num(k)
-        );
-        if zones.len() == 1 {
-            let z = &zones[0];
-            // Wrap the zone so the material applies to all of it.
-            let _ = writeln!(s, "object {{ {z}\n  {material} }}");
-        } else {
-            s.push_str("union {\n");
-            for z in &zones {
-                let _ = writeln!(s, "  {z}");
-            }
-            let _ = writeln!(s, "  {material}\n}}");
+            self.bodies[i].clone().unwrap_or_default()
         }
     }
-    Ok(s)
+
+    /// The opaque regions as CSG with their material.
+    fn regions(&self, out: &mut String, scene: &Scene, opaque: &[usize]) {
+        let body_ref = |i: usize| self.body_ref(i);
+        for &r in opaque {
+            let region = &scene.geometry.regions[r];
+            let props = scene.regions.get(r);
+            let colour = props.and_then(|p| p.colour).unwrap_or([1.0; 3]);
+            let k = props.map_or(0.8, |p| p.k);
+            let _ = writeln!(out, "// region {}", one_line(&region.name));
+            let zones: Vec<String> = region.zones.iter().map(|z| zone(z, &body_ref)).collect();
+            let material = format!(
+                "pigment {{ {} }} finish {{ ambient {} diffuse {} specular 0 phong 0 brilliance 1 }}",
+                rgb(colour),
+                num(scene.ambient),
+                num(k)
+            );
+            if zones.len() == 1 {
+                // Wrap the zone so the material applies to all of it.
+                let _ = writeln!(out, "object {{ {}\n  {material} }}", zones[0]);
+            } else {
+                out.push_str("union {\n");
+                for z in &zones {
+                    let _ = writeln!(out, "  {z}");
+                }
+                let _ = writeln!(out, "  {material}\n}}");
+            }
+        }
+    }
 }
 
 fn header(s: &mut String, scene: &Scene, width: u32, height: u32) {

@@ -58,48 +58,48 @@ pub(crate) fn parse_real(field: &str) -> Option<f64> {
     if s.is_empty() {
         return Some(0.0);
     }
-    let b = s.as_bytes();
+    let bytes = s.as_bytes();
     let mut i = 0;
-    if matches!(b.first(), Some(b'+' | b'-')) {
+    if matches!(bytes.first(), Some(b'+' | b'-')) {
         i += 1;
     }
     let int_start = i;
-    while i < b.len() && b[i].is_ascii_digit() {
+    while i < bytes.len() && bytes[i].is_ascii_digit() {
         i += 1;
     }
     let mut digits = i - int_start;
     let mut point = false;
-    if i < b.len() && b[i] == b'.' {
+    if i < bytes.len() && bytes[i] == b'.' {
         point = true;
         i += 1;
         let frac_start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
         }
         digits += i - frac_start;
     }
     if digits == 0 {
         // `.`, `-.` and `+.` are zero on the old decks; a lone sign is not.
-        return if point && i == b.len() {
+        return if point && i == bytes.len() {
             Some(0.0)
         } else {
             None
         };
     }
-    if i < b.len() && matches!(b[i], b'e' | b'E') {
+    if i < bytes.len() && matches!(bytes[i], b'e' | b'E') {
         i += 1;
-        if i < b.len() && matches!(b[i], b'+' | b'-') {
+        if i < bytes.len() && matches!(bytes[i], b'+' | b'-') {
             i += 1;
         }
         let exp_start = i;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
         }
         if i == exp_start {
             return None;
         }
     }
-    if i != b.len() {
+    if i != bytes.len() {
         return None;
     }
     s.parse::<f64>().ok().filter(|v| v.is_finite())

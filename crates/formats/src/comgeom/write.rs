@@ -1,7 +1,7 @@
 //! The v5 deck writer.
 
 use std::fmt::Write as _;
-use sv_geom::{BodyKind, Op};
+use sv_geom::{Body, BodyKind, Op, Region};
 use sv_scene::{RegionProps, Scene};
 
 /// Why a scene cannot be written as a COMGEOM deck.
@@ -164,45 +164,6 @@ fn card_name(kind: BodyKind) -> Option<&'static str> {
     })
 }
 
-/// Append value cards: six 10-column fields per card; the first card is
-/// `first` (number and type already written), later ones continue it.
-fn value_cards(
-    out: &mut String,
-    first: String,
-    number: usize,
-    vals: &[f64],
-    comment: &str,
-    notes: &mut Vec<String>,
-    what: &str,
-) {
-    let mut line = first;
-    for (i, chunk) in vals.chunks(6).enumerate() {
-        if i > 0 {
-            line = format!("{number:>5}     ");
-        }
-        for (j, &v) in chunk.iter().enumerate() {
-            let (s, exact) = fmt_value(v);
-            if !exact {
-                notes.push(format!(
-                    "{what}: value {} ({v}) written as {s} to fit 10 columns",
-                    i * 6 + j + 1
-                ));
-            }
-            let _ = write!(line, "{s:>10}");
-        }
-        if i == 0 && !comment.is_empty() {
-            let _ = write!(
-                line,
-                "{:width$}{comment}",
-                "",
-                width = 70usize.saturating_sub(line.len())
-            );
-        }
-        out.push_str(line.trim_end());
-        out.push('\n');
-    }
-}
-
 fn one_line(s: &str) -> String {
     s.chars()
         .map(|c| if c.is_control() { ' ' } else { c })
@@ -211,33 +172,63 @@ fn one_line(s: &str) -> String {
         .to_string()
 }
 
-/// Write a scene's geometry and region metadata as a v5 deck.
-///
-/// Values are written in the shortest form that reads back to the same
-/// number; only a value that needs more than 10 columns is rounded, and each
-/// such rounding is listed in [`WrittenDeck::notes`]. An ELL in foci form is
-/// written as ELL1 ([`ell_foci_to_centre`]). Body types COMGEOM has no card
-/// for (the FLUKA bodies) are an error.
-pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
-    let g = &scene.geometry;
-    let mut notes = Vec::new();
-    if g.bodies.len() > 9999 {
-        return Err(WriteError::TooManyBodies(g.bodies.len()));
+/// Append `comment` to a card, from column `column + 1` on (right after
+/// the card's text when that is longer); nothing for an empty comment.
+fn with_comment(line: &mut String, column: usize, comment: &str) {
+    if !comment.is_empty() {
+        let _ = write!(
+            line,
+            "{:width$}{comment}",
+            "",
+            width = column.saturating_sub(line.len())
+        );
     }
-    if g.regions.len() > 99999 {
-        return Err(WriteError::TooManyRegions(g.regions.len()));
-    }
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{:<2} {}",
-        scene.units.abbrev(),
-        one_line(&scene.title)
-    );
-    let _ = writeln!(out, "{:>5}{:>5}", g.bodies.len(), g.regions.len());
+}
 
-    for (i, b) in g.bodies.iter().enumerate() {
-        let number = i + 1;
+/// A deck being written: its text and the notes on what it could not keep
+/// exactly.
+#[derive(Default)]
+struct Deck {
+    out: String,
+    notes: Vec<String>,
+}
+
+impl Deck {
+    /// Append value cards: six 10-column fields per card; the first card is
+    /// `first` (number and type already written), later ones continue it.
+    fn value_cards(
+        &mut self,
+        first: String,
+        number: usize,
+        vals: &[f64],
+        comment: &str,
+        what: &str,
+    ) {
+        let mut line = first;
+        for (i, chunk) in vals.chunks(6).enumerate() {
+            if i > 0 {
+                line = format!("{number:>5}     ");
+            }
+            for (j, &v) in chunk.iter().enumerate() {
+                let (s, exact) = fmt_value(v);
+                if !exact {
+                    self.notes.push(format!(
+                        "{what}: value {} ({v}) written as {s} to fit 10 columns",
+                        i * 6 + j + 1
+                    ));
+                }
+                let _ = write!(line, "{s:>10}");
+            }
+            if i == 0 {
+                with_comment(&mut line, 70, comment);
+            }
+            self.out.push_str(line.trim_end());
+            self.out.push('\n');
+        }
+    }
+
+    /// The cards of body `number`.
+    fn body(&mut self, number: usize, b: &Body) -> Result<(), WriteError> {
         let Some(ty) = card_name(b.kind) else {
             return Err(WriteError::Unsupported {
                 name: b.name.clone(),
@@ -250,7 +241,8 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
             one_line(&b.name)
         };
         if !comment.is_empty() {
-            notes.push(format!("body {} is written as number {number}", b.name));
+            self.notes
+                .push(format!("body {} is written as number {number}", b.name));
         }
         if b.params.iter().any(|v| !v.is_finite()) {
             return Err(WriteError::NotFinite {
@@ -258,59 +250,8 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
                 kind: b.kind,
             });
         }
-        let what = format!("body {number} ({ty})");
         if b.kind == BodyKind::Ars {
-            let bad = || WriteError::WrongCount {
-                name: b.name.clone(),
-                kind: b.kind,
-                found: b.params.len(),
-                expected: 2,
-            };
-            let (c, p) = match b.params.get(0..2) {
-                Some(&[c, p])
-                    if c >= 1.0
-                        && p >= 1.0
-                        && c.fract() == 0.0
-                        && p.fract() == 0.0
-                        && c * p <= 1e9 =>
-                {
-                    (c as usize, p as usize)
-                }
-                _ => return Err(bad()),
-            };
-            if b.params.len() != 2 + 3 * c * p {
-                return Err(WriteError::WrongCount {
-                    name: b.name.clone(),
-                    kind: b.kind,
-                    found: b.params.len(),
-                    expected: 2 + 3 * c * p,
-                });
-            }
-            let mut line = format!("{number:>5}{ty:<5}{c:>10}{p:>10}");
-            if !comment.is_empty() {
-                let _ = write!(
-                    line,
-                    "{:width$}{comment}",
-                    "",
-                    width = 70 - line.len().min(70)
-                );
-            }
-            out.push_str(line.trim_end());
-            out.push('\n');
-            for curve in b.params[2..].chunks(3 * p) {
-                for chunk in curve.chunks(6) {
-                    value_cards(
-                        &mut out,
-                        format!("{number:>5}     "),
-                        number,
-                        chunk,
-                        "",
-                        &mut notes,
-                        &what,
-                    );
-                }
-            }
-            continue;
+            return self.ars(number, ty, b, &comment);
         }
         let expected = b.kind.info().value_count();
         if b.params.len() != expected {
@@ -322,32 +263,65 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
             });
         }
         let vals: Vec<f64> = if b.kind == BodyKind::Ell {
-            let c = ell_foci_to_centre(&b.params);
-            if c.iter().any(|v| !v.is_finite()) {
+            let centre_form = ell_foci_to_centre(&b.params);
+            if centre_form.iter().any(|v| !v.is_finite()) {
                 return Err(WriteError::NotFinite {
                     name: b.name.clone(),
                     kind: b.kind,
                 });
             }
-            notes.push(format!("body {number}: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"));
-            c.to_vec()
+            self.notes.push(format!("body {number}: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"));
+            centre_form.to_vec()
         } else {
             b.params.clone()
         };
-        value_cards(
-            &mut out,
+        let what = format!("body {number} ({ty})");
+        self.value_cards(
             format!("{number:>5}{ty:<5}"),
             number,
             &vals,
             &comment,
-            &mut notes,
             &what,
         );
+        Ok(())
     }
 
-    let default_props = RegionProps::default();
-    for (i, r) in g.regions.iter().enumerate() {
-        let number = i + 1;
+    /// An ARS: curve and point counts on the first card, then three values
+    /// per point, each curve starting a new card.
+    fn ars(&mut self, number: usize, ty: &str, b: &Body, comment: &str) -> Result<(), WriteError> {
+        let wrong_count = |expected| WriteError::WrongCount {
+            name: b.name.clone(),
+            kind: b.kind,
+            found: b.params.len(),
+            expected,
+        };
+        let (curves, points) = match b.params.get(0..2) {
+            Some(&[c, p])
+                if c >= 1.0 && p >= 1.0 && c.fract() == 0.0 && p.fract() == 0.0 && c * p <= 1e9 =>
+            {
+                (c as usize, p as usize)
+            }
+            _ => return Err(wrong_count(2)),
+        };
+        if b.params.len() != 2 + 3 * curves * points {
+            return Err(wrong_count(2 + 3 * curves * points));
+        }
+        let mut line = format!("{number:>5}{ty:<5}{curves:>10}{points:>10}");
+        with_comment(&mut line, 70, comment);
+        self.out.push_str(line.trim_end());
+        self.out.push('\n');
+        let what = format!("body {number} ({ty})");
+        for curve in b.params[2..].chunks(3 * points) {
+            for chunk in curve.chunks(6) {
+                self.value_cards(format!("{number:>5}     "), number, chunk, "", &what);
+            }
+        }
+        Ok(())
+    }
+
+    /// The cards of region `number`: nine fields a card, `OR` before the
+    /// first term of every zone but the first.
+    fn region(&mut self, number: usize, r: &Region, body_count: usize) -> Result<(), WriteError> {
         let mut fields = Vec::new();
         for (zi, z) in r.zones.iter().enumerate() {
             if z.terms.is_empty() {
@@ -357,16 +331,16 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
                 });
             }
             for (ti, t) in z.terms.iter().enumerate() {
-                if t.body >= g.bodies.len() {
+                if t.body >= body_count {
                     return Err(WriteError::BadBodyIndex {
                         region: r.name.clone(),
                         body: t.body,
-                        count: g.bodies.len(),
+                        count: body_count,
                     });
                 }
-                let n = (t.body + 1) as i64 * if t.op == Op::Outside { -1 } else { 1 };
+                let signed = (t.body + 1) as i64 * if t.op == Op::Outside { -1 } else { 1 };
                 let op = if zi > 0 && ti == 0 { "OR" } else { "  " };
-                fields.push(format!("{op}{n:>5}"));
+                fields.push(format!("{op}{signed:>5}"));
             }
         }
         let comment = if r.name == number.to_string() {
@@ -375,7 +349,8 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
             one_line(&r.name)
         };
         if !comment.is_empty() {
-            notes.push(format!("region {} is written as number {number}", r.name));
+            self.notes
+                .push(format!("region {} is written as number {number}", r.name));
         }
         let mut chunks: Vec<&[String]> = fields.chunks(9).collect();
         if chunks.is_empty() {
@@ -390,53 +365,93 @@ pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
             for f in *chunk {
                 line.push_str(f);
             }
-            if ci == 0 && !comment.is_empty() {
-                let _ = write!(
-                    line,
-                    "{:width$}{comment}",
-                    "",
-                    width = 69usize.saturating_sub(line.len())
-                );
+            if ci == 0 {
+                with_comment(&mut line, 69, &comment);
             }
-            out.push_str(line.trim_end());
-            out.push('\n');
+            self.out.push_str(line.trim_end());
+            self.out.push('\n');
         }
+        Ok(())
     }
-    out.push_str("   -1\n");
 
-    for (i, r) in g.regions.iter().enumerate() {
-        let p = scene.regions.get(i).unwrap_or(&default_props);
+    /// The ident card of region `number`.
+    fn ident(&mut self, number: usize, r: &Region, p: &RegionProps) -> Result<(), WriteError> {
         if p.transparent && p.air == 0 {
-            notes.push(format!(
+            self.notes.push(format!(
                 "region {}: transparency without an air code is not kept",
                 r.name
             ));
         }
-        let mut line = format!("{:>5}", i + 1);
+        let mut line = format!("{number:>5}");
         for (what, v) in [
             ("ident code", p.ident),
             ("air code", p.air),
             ("material", p.material),
             ("line of sight", p.los),
         ] {
-            let s = format!("{v:>5}");
-            if s.len() > 5 {
+            let field = format!("{v:>5}");
+            if field.len() > 5 {
                 return Err(WriteError::FieldTooWide {
                     region: r.name.clone(),
                     what,
                     value: v,
                 });
             }
-            line.push_str(&s);
+            line.push_str(&field);
         }
         let desc = one_line(&p.description);
         if !desc.is_empty() {
             let _ = write!(line, "     {desc}");
         }
-        out.push_str(&line);
-        out.push('\n');
+        self.out.push_str(&line);
+        self.out.push('\n');
+        Ok(())
     }
-    Ok(WrittenDeck { text: out, notes })
+}
+
+/// Write a scene's geometry and region metadata as a v5 deck.
+///
+/// Values are written in the shortest form that reads back to the same
+/// number; only a value that needs more than 10 columns is rounded, and each
+/// such rounding is listed in [`WrittenDeck::notes`]. An ELL in foci form is
+/// written as ELL1 ([`ell_foci_to_centre`]). Body types COMGEOM has no card
+/// for (the FLUKA bodies) are an error.
+pub fn write(scene: &Scene) -> Result<WrittenDeck, WriteError> {
+    let geometry = &scene.geometry;
+    if geometry.bodies.len() > 9999 {
+        return Err(WriteError::TooManyBodies(geometry.bodies.len()));
+    }
+    if geometry.regions.len() > 99999 {
+        return Err(WriteError::TooManyRegions(geometry.regions.len()));
+    }
+    let mut deck = Deck::default();
+    let _ = writeln!(
+        deck.out,
+        "{:<2} {}",
+        scene.units.abbrev(),
+        one_line(&scene.title)
+    );
+    let _ = writeln!(
+        deck.out,
+        "{:>5}{:>5}",
+        geometry.bodies.len(),
+        geometry.regions.len()
+    );
+    for (i, b) in geometry.bodies.iter().enumerate() {
+        deck.body(i + 1, b)?;
+    }
+    for (i, r) in geometry.regions.iter().enumerate() {
+        deck.region(i + 1, r, geometry.bodies.len())?;
+    }
+    deck.out.push_str("   -1\n");
+    let default_props = RegionProps::default();
+    for (i, r) in geometry.regions.iter().enumerate() {
+        deck.ident(i + 1, r, scene.regions.get(i).unwrap_or(&default_props))?;
+    }
+    Ok(WrittenDeck {
+        text: deck.out,
+        notes: deck.notes,
+    })
 }
 
 #[cfg(test)]

@@ -2,6 +2,8 @@
 //! keyword, six WHATs and the SDUM, in fixed columns (A8, 2X, 6E10, A8) or in
 //! free format (fields separated by commas, or by blanks after `FREE`).
 
+use crate::text;
+
 /// One field of a card: its text and where it starts on the line.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Field {
@@ -108,49 +110,30 @@ fn free_fields(text: &str) -> Vec<Option<Field>> {
 }
 
 /// The blank-separated words of a line with their 1-based character columns.
-pub(crate) fn words(text: &str) -> Vec<(usize, &str)> {
-    split_words(text, char::is_whitespace)
-}
-
-/// The words of a line between separators, with their 1-based character
-/// columns.
-pub(crate) fn split_words(text: &str, sep: impl Fn(char) -> bool) -> Vec<(usize, &str)> {
-    let mut out = Vec::new();
-    let mut start: Option<(usize, usize)> = None; // (byte, col)
-    let mut col = 0;
-    for (b, c) in text.char_indices() {
-        col += 1;
-        if sep(c) {
-            if let Some((sb, sc)) = start.take() {
-                out.push((sc, &text[sb..b]));
-            }
-        } else if start.is_none() {
-            start = Some((b, col));
-        }
-    }
-    if let Some((sb, sc)) = start {
-        out.push((sc, &text[sb..]));
-    }
-    out
+pub(crate) fn words(line: &str) -> Vec<(usize, &str)> {
+    text::tokens(line, 0, &text::FLUKA_BLANKS)
+        .into_iter()
+        .map(|t| (t.span.col, t.text))
+        .collect()
 }
 
 /// Parse a FLUKA number: optional sign, digits with an optional decimal
 /// point, and an optional exponent introduced by `E` or `D` (Fortran). Words
 /// such as `inf` or `NaN` are refused.
 pub(crate) fn number(s: &str) -> Option<f64> {
-    let b = s.as_bytes();
+    let bytes = s.as_bytes();
     let mut i = 0;
-    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+    if i < bytes.len() && (bytes[i] == b'+' || bytes[i] == b'-') {
         i += 1;
     }
     let mut digits = 0;
-    while i < b.len() && b[i].is_ascii_digit() {
+    while i < bytes.len() && bytes[i].is_ascii_digit() {
         i += 1;
         digits += 1;
     }
-    if i < b.len() && b[i] == b'.' {
+    if i < bytes.len() && bytes[i] == b'.' {
         i += 1;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
             digits += 1;
         }
@@ -160,14 +143,14 @@ pub(crate) fn number(s: &str) -> Option<f64> {
     }
     let mantissa_end = i;
     let mut exponent = String::new();
-    if i < b.len() && matches!(b[i], b'e' | b'E' | b'd' | b'D') {
+    if i < bytes.len() && matches!(bytes[i], b'e' | b'E' | b'd' | b'D') {
         i += 1;
         let start = i;
-        if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        if i < bytes.len() && (bytes[i] == b'+' || bytes[i] == b'-') {
             i += 1;
         }
         let d0 = i;
-        while i < b.len() && b[i].is_ascii_digit() {
+        while i < bytes.len() && bytes[i].is_ascii_digit() {
             i += 1;
         }
         if i == d0 {
@@ -175,7 +158,7 @@ pub(crate) fn number(s: &str) -> Option<f64> {
         }
         exponent = format!("e{}", &s[start..i]);
     }
-    if i != b.len() {
+    if i != bytes.len() {
         return None;
     }
     let mut m = s[..mantissa_end].to_string();

@@ -96,6 +96,55 @@ struct Frame {
     col: usize,
 }
 
+/// Where a directive stands, and whether the text around it is read.
+#[derive(Clone, Copy)]
+struct Here {
+    file: usize,
+    line: usize,
+    active: bool,
+}
+
+/// A line starting (after blanks) with `#`, split into its parts.
+struct DirectiveLine<'a> {
+    /// 1-based column of the `#`.
+    col: usize,
+    /// The directive's name, lower case, without `#`.
+    word: String,
+    /// Its length in characters.
+    word_len: usize,
+    /// The text after the name, trimmed.
+    rest: &'a str,
+    /// The first word after the name, and its column.
+    arg: Option<&'a str>,
+    arg_col: Option<usize>,
+    /// The directive as written (`#word`), for messages.
+    shown: &'a str,
+}
+
+impl<'a> DirectiveLine<'a> {
+    /// The directive on `raw`, or `None` when it is an ordinary line.
+    fn parse(raw: &'a str) -> Option<DirectiveLine<'a>> {
+        let trimmed = raw.trim_start();
+        let body = trimmed.strip_prefix('#')?;
+        let col = raw.chars().count() - trimmed.chars().count() + 1;
+        let word_len = body.chars().take_while(|c| c.is_ascii_alphabetic()).count();
+        let after = &body[word_len..];
+        let rest = after.trim();
+        let arg = rest.split_whitespace().next();
+        let arg_col = arg
+            .map(|a| col + 1 + word_len + after.find(a).map_or(0, |b| after[..b].chars().count()));
+        Some(DirectiveLine {
+            col,
+            word: body[..word_len].to_ascii_lowercase(),
+            word_len,
+            rest,
+            arg,
+            arg_col,
+            shown: trimmed.split_whitespace().next().unwrap_or("#"),
+        })
+    }
+}
+
 struct Pre {
     out: Output,
     defines: HashMap<String, String>,
@@ -162,149 +211,28 @@ impl Pre {
         }
         let mut stack: Vec<Frame> = Vec::new();
         for (i, raw) in text.split('\n').enumerate() {
-            let line_no = i + 1;
+            let line = i + 1;
             let raw = raw.strip_suffix('\r').unwrap_or(raw);
             let active = stack.last().is_none_or(|f| f.parent && f.taking);
-            let trimmed = raw.trim_start();
-            if !trimmed.starts_with('#') {
-                if active {
-                    self.out.lines.push(Line {
-                        file,
-                        line: line_no,
-                        text: raw.to_string(),
-                    });
-                }
-                continue;
-            }
-            let col = raw.chars().count() - trimmed.chars().count() + 1;
-            let body = &trimmed[1..];
-            let word_len = body.chars().take_while(|c| c.is_ascii_alphabetic()).count();
-            let word = body[..word_len].to_ascii_lowercase();
-            let rest = body[word_len..].trim();
-            let arg = rest.split_whitespace().next();
-            let arg_col = arg.map(|a| {
-                col + 1
-                    + word_len
-                    + body[word_len..]
-                        .find(a)
-                        .map_or(0, |b| body[word_len..][..b].chars().count())
-            });
-            match word.as_str() {
-                "define" | "undef" if active => match arg {
-                    Some(name) => {
-                        if word == "define" {
-                            let value = rest[name.len()..].trim().to_string();
-                            self.defines.insert(name.to_string(), value);
-                        } else {
-                            self.defines.remove(name);
-                        }
-                    }
-                    None => {
-                        self.err(
+            match DirectiveLine::parse(raw) {
+                None => {
+                    if active {
+                        self.out.lines.push(Line {
                             file,
-                            line_no,
-                            col,
-                            word_len + 1,
-                            format!("`#{word}` needs a name"),
-                        );
-                    }
-                },
-                "if" | "ifdef" | "ifndef" => {
-                    let cond = match arg {
-                        Some(name) => self.defines.contains_key(name) != (word == "ifndef"),
-                        None => {
-                            if active {
-                                self.err(
-                                    file,
-                                    line_no,
-                                    col,
-                                    word_len + 1,
-                                    format!("`#{word}` needs a name"),
-                                );
-                            }
-                            false
-                        }
-                    };
-                    stack.push(Frame {
-                        parent: active,
-                        taking: cond,
-                        taken: cond,
-                        seen_else: false,
-                        line: line_no,
-                        col,
-                    });
-                }
-                "elif" => {
-                    let defined = arg.is_some_and(|n| self.defines.contains_key(n));
-                    match stack.last_mut() {
-                        None => {
-                            self.err(file, line_no, col, 5, "`#elif` without `#if`");
-                        }
-                        Some(f) if f.seen_else => {
-                            self.err(file, line_no, col, 5, "`#elif` after `#else`");
-                        }
-                        Some(f) => {
-                            let parent = f.parent;
-                            f.taking = !f.taken && defined;
-                            f.taken |= f.taking;
-                            if arg.is_none() && parent {
-                                self.err(file, line_no, col, 5, "`#elif` needs a name");
-                            }
-                        }
+                            line,
+                            text: raw.to_string(),
+                        });
                     }
                 }
-                "else" => match stack.last_mut() {
-                    None => {
-                        self.err(file, line_no, col, 5, "`#else` without `#if`");
-                    }
-                    Some(f) if f.seen_else => {
-                        let first = f.line;
-                        let hint = format!("the `#if` is on line {first}");
-                        if let Some(d) =
-                            self.err(file, line_no, col, 5, "second `#else` for the same `#if`")
-                        {
-                            d.hint = Some(hint);
+                Some(d) => {
+                    let here = Here { file, line, active };
+                    match d.word.as_str() {
+                        "if" | "ifdef" | "ifndef" | "elif" | "else" | "endif" => {
+                            self.conditional(here, &d, &mut stack)
                         }
-                    }
-                    Some(f) => {
-                        f.taking = !f.taken;
-                        f.taken = true;
-                        f.seen_else = true;
-                    }
-                },
-                "endif" => {
-                    let closed = stack.pop().is_some();
-                    if !closed {
-                        self.err(file, line_no, col, 6, "`#endif` without `#if`");
+                        _ => self.directive(here, &d, depth, chain),
                     }
                 }
-                "include" if active => {
-                    let name = rest
-                        .trim_matches(|c| c == '"' || c == '\'' || c == '<' || c == '>')
-                        .trim();
-                    if name.is_empty() {
-                        self.err(file, line_no, col, 8, "`#include` needs a file name");
-                    } else {
-                        let ac = arg_col.unwrap_or(col);
-                        self.include(file, line_no, ac, rest.chars().count(), name, depth, chain);
-                    }
-                }
-                "define" | "undef" | "include" => {}
-                _ if active => {
-                    let shown: String =
-                        trimmed.split_whitespace().next().unwrap_or("#").to_string();
-                    let d = self.err(
-                        file,
-                        line_no,
-                        col,
-                        shown.chars().count(),
-                        format!("unknown preprocessor directive `{shown}`"),
-                    );
-                    if let (Some(d), Some(s)) = (d, did_you_mean(&word, DIRECTIVES)) {
-                        d.hint = Some(format!("did you mean `#{s}`?"));
-                    }
-                }
-                _ => {}
             }
         }
         for f in stack {
@@ -312,17 +240,149 @@ impl Pre {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// `#define`, `#undef`, `#include` and unknown directives.
+    fn directive(&mut self, here: Here, d: &DirectiveLine, depth: usize, chain: &mut Vec<PathBuf>) {
+        let Here { file, line, active } = here;
+        if !active {
+            return;
+        }
+        let word = d.word.as_str();
+        match word {
+            "define" | "undef" => match d.arg {
+                Some(name) => {
+                    if word == "define" {
+                        let value = d.rest[name.len()..].trim().to_string();
+                        self.defines.insert(name.to_string(), value);
+                    } else {
+                        self.defines.remove(name);
+                    }
+                }
+                None => {
+                    self.err(
+                        file,
+                        line,
+                        d.col,
+                        d.word_len + 1,
+                        format!("`#{word}` needs a name"),
+                    );
+                }
+            },
+            "include" => {
+                let name = d
+                    .rest
+                    .trim_matches(|c| c == '"' || c == '\'' || c == '<' || c == '>')
+                    .trim();
+                if name.is_empty() {
+                    self.err(file, line, d.col, 8, "`#include` needs a file name");
+                } else {
+                    let col = d.arg_col.unwrap_or(d.col);
+                    self.include(here, col, d.rest.chars().count(), name, depth, chain);
+                }
+            }
+            _ => {
+                let shown = d.shown;
+                let e = self.err(
+                    file,
+                    line,
+                    d.col,
+                    shown.chars().count(),
+                    format!("unknown preprocessor directive `{shown}`"),
+                );
+                if let (Some(e), Some(s)) = (e, did_you_mean(word, DIRECTIVES)) {
+                    e.hint = Some(format!("did you mean `#{s}`?"));
+                }
+            }
+        }
+    }
+
+    /// `#if`, `#ifdef`, `#ifndef`, `#elif`, `#else` and `#endif`: they are
+    /// followed even in inactive text, to find the matching `#endif`.
+    fn conditional(&mut self, here: Here, d: &DirectiveLine, stack: &mut Vec<Frame>) {
+        let Here { file, line, active } = here;
+        let col = d.col;
+        match d.word.as_str() {
+            "if" | "ifdef" | "ifndef" => {
+                let cond = match d.arg {
+                    Some(name) => self.defines.contains_key(name) != (d.word == "ifndef"),
+                    None => {
+                        if active {
+                            self.err(
+                                file,
+                                line,
+                                col,
+                                d.word_len + 1,
+                                format!("`#{}` needs a name", d.word),
+                            );
+                        }
+                        false
+                    }
+                };
+                stack.push(Frame {
+                    parent: active,
+                    taking: cond,
+                    taken: cond,
+                    seen_else: false,
+                    line,
+                    col,
+                });
+            }
+            "elif" => {
+                let defined = d.arg.is_some_and(|n| self.defines.contains_key(n));
+                match stack.last_mut() {
+                    None => {
+                        self.err(file, line, col, 5, "`#elif` without `#if`");
+                    }
+                    Some(f) if f.seen_else => {
+                        self.err(file, line, col, 5, "`#elif` after `#else`");
+                    }
+                    Some(f) => {
+                        let parent = f.parent;
+                        f.taking = !f.taken && defined;
+                        f.taken |= f.taking;
+                        if d.arg.is_none() && parent {
+                            self.err(file, line, col, 5, "`#elif` needs a name");
+                        }
+                    }
+                }
+            }
+            "else" => match stack.last_mut() {
+                None => {
+                    self.err(file, line, col, 5, "`#else` without `#if`");
+                }
+                Some(f) if f.seen_else => {
+                    let hint = format!("the `#if` is on line {}", f.line);
+                    if let Some(e) =
+                        self.err(file, line, col, 5, "second `#else` for the same `#if`")
+                    {
+                        e.hint = Some(hint);
+                    }
+                }
+                Some(f) => {
+                    f.taking = !f.taken;
+                    f.taken = true;
+                    f.seen_else = true;
+                }
+            },
+            _ => {
+                // #endif
+                if stack.pop().is_none() {
+                    self.err(file, line, col, 6, "`#endif` without `#if`");
+                }
+            }
+        }
+    }
+
+    /// `#include name`, at column `col` (`len` characters) of a line.
     fn include(
         &mut self,
-        file: usize,
-        line: usize,
+        here: Here,
         col: usize,
         len: usize,
         name: &str,
         depth: usize,
         chain: &mut Vec<PathBuf>,
     ) {
+        let Here { file, line, .. } = here;
         if depth + 1 > MAX_INCLUDE_DEPTH {
             self.err(
                 file,

@@ -12,6 +12,7 @@
 //! form: intersection distributes over union and `-( … )` uses De Morgan's
 //! laws. Zones that hold a body both with `+` and `-` are empty and dropped.
 
+use crate::text;
 use sv_geom::{Op, Term, Zone};
 
 /// Most zones a region may expand to.
@@ -41,42 +42,22 @@ pub(crate) struct Spanned {
 }
 
 /// Split one line of a region expression into tokens.
-pub(crate) fn tokenize(text: &str, line: usize, out: &mut Vec<Spanned>) {
-    let chars: Vec<char> = text.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let single = match c {
-            '+' => Some(Tok::Plus),
-            '-' => Some(Tok::Minus),
-            '|' => Some(Tok::Bar),
-            '(' => Some(Tok::Open),
-            ')' => Some(Tok::Close),
-            _ => None,
+pub(crate) fn tokenize(line_text: &str, line: usize, out: &mut Vec<Spanned>) {
+    for t in text::tokens(line_text, line, &text::FLUKA_REGION) {
+        let tok = match t.kind {
+            text::Kind::Punct('+') => Tok::Plus,
+            text::Kind::Punct('-') => Tok::Minus,
+            text::Kind::Punct('|') => Tok::Bar,
+            text::Kind::Punct('(') => Tok::Open,
+            text::Kind::Punct(')') => Tok::Close,
+            _ => Tok::Name(t.text.to_string()),
         };
-        if let Some(t) = single {
-            out.push(Spanned {
-                tok: t,
-                line,
-                col: i + 1,
-                len: 1,
-            });
-            i += 1;
-        } else if c.is_whitespace() || c == ',' {
-            i += 1;
-        } else {
-            let start = i;
-            while i < chars.len() && !chars[i].is_whitespace() && !"+-|(),".contains(chars[i]) {
-                i += 1;
-            }
-            let name: String = chars[start..i].iter().collect();
-            out.push(Spanned {
-                tok: Tok::Name(name),
-                line,
-                col: start + 1,
-                len: i - start,
-            });
-        }
+        out.push(Spanned {
+            tok,
+            line,
+            col: t.span.col,
+            len: t.span.len,
+        });
     }
 }
 

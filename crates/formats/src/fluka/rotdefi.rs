@@ -3,6 +3,7 @@
 //!
 //! The convention is described in the parent module's documentation.
 
+use super::card::{self, Card};
 use sv_math::{DAffine3, DMat3, DVec3};
 
 /// One ROT-DEFI card.
@@ -73,6 +74,62 @@ pub(crate) fn compose(cards: &[RotDefi]) -> DAffine3 {
     cards
         .iter()
         .fold(DAffine3::IDENTITY, |acc, c| c.affine() * acc)
+}
+
+impl super::Reader {
+    /// Record a ROT-DEFI card under its name (SDUM) and index.
+    pub(super) fn rotdefi(&mut self, i: usize, c: &Card) {
+        let mut w = [0.0; 6];
+        for (k, f) in c.what.iter().enumerate() {
+            if let Some(f) = f {
+                match card::number(&f.text) {
+                    Some(v) => w[k] = v,
+                    None => {
+                        let (col, len) = (f.col, f.len());
+                        self.err(
+                            i,
+                            col,
+                            len,
+                            format!(
+                                "expected a number in ROT-DEFI WHAT({}), found `{}`",
+                                k + 1,
+                                f.text
+                            ),
+                        );
+                        return;
+                    }
+                }
+            }
+        }
+        let (index, axis) = match index_and_axis(w[0]) {
+            Ok(x) => x,
+            Err(j) => {
+                let (col, len) = c.what[0].as_ref().map_or((1, 8), |f| (f.col, f.len()));
+                self.err(
+                    i,
+                    col,
+                    len,
+                    format!("ROT-DEFI axis code j = {j} is not 1 (x), 2 (y) or 3 (z)"),
+                )
+                .hint = Some("WHAT(1) is i + 100 j below 1000 and j + 1000 i above".into());
+                return;
+            }
+        };
+        let name = match &c.sdum {
+            Some(s) => s.text.clone(),
+            None if index > 0 => index.to_string(),
+            None => return, // ignored by FLUKA too
+        };
+        if index > 0 {
+            self.rot_index.entry(index).or_insert_with(|| name.clone());
+        }
+        self.rot.entry(name).or_default().push(RotDefi {
+            axis,
+            polar: w[1],
+            azimuth: w[2],
+            offset: DVec3::new(w[3], w[4], w[5]),
+        });
+    }
 }
 
 #[cfg(test)]

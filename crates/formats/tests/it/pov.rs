@@ -462,60 +462,74 @@ fn figure1_matches_povray_when_installed() {
     assert!(differ < 0.005, "{differ} of the pixels differ");
 }
 
-/// Every body type, side by side in a wall facing the camera; the
-/// infinite ones are cut by a sphere.
-fn all_bodies() -> Scene {
+/// One item of the wall: bodies intersected into one region.
+type Item = Vec<(BodyKind, Vec<f64>)>;
+
+/// An item of one body.
+fn one(kind: BodyKind, params: Vec<f64>) -> Item {
+    vec![(kind, params)]
+}
+
+/// The corners of a box `2s` wide, `1.4s` deep and `2s` high, for ARB8.
+fn cube(s: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    for (x, y, z) in [
+        (-1, -1, -1),
+        (1, -1, -1),
+        (1, 1, -1),
+        (-1, 1, -1),
+        (-1, -1, 1),
+        (1, -1, 1),
+        (1, 1, 1),
+        (-1, 1, 1),
+    ] {
+        v.extend([x as f64 * s, y as f64 * s * 0.7, z as f64 * s]);
+    }
+    v
+}
+
+/// Spheres, cylinders, cones and ellipsoids.
+fn quadric_solids() -> Vec<Item> {
     use BodyKind::*;
-    let mut items: Vec<Vec<(BodyKind, Vec<f64>)>> = Vec::new();
-    let cube = |s: f64| -> Vec<f64> {
-        let mut v = Vec::new();
-        for (x, y, z) in [
-            (-1, -1, -1),
-            (1, -1, -1),
-            (1, 1, -1),
-            (-1, 1, -1),
-            (-1, -1, 1),
-            (1, -1, 1),
-            (1, 1, 1),
-            (-1, 1, 1),
-        ] {
-            v.extend([x as f64 * s, y as f64 * s * 0.7, z as f64 * s]);
-        }
-        v
-    };
-    let one = |k: BodyKind, p: Vec<f64>| vec![(k, p)];
-    let unit_sphere = (Sph, vec![0.0, 0.0, 0.0, 1.0]);
-    items.push(one(Sph, vec![0.0, 0.0, 0.0, 1.0]));
-    items.push(one(Rcc, vec![0.0, 0.0, -1.0, 0.3, 0.2, 2.0, 0.7]));
-    items.push(one(
-        Rec,
-        vec![0.0, 0.0, -1.0, 0.0, 0.3, 2.0, 0.9, 0.0, 0.0, 0.0, 0.5, 0.1],
-    ));
-    items.push(one(Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.4]));
-    items.push(one(
-        Tec,
-        vec![
-            0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 2.0,
-        ],
-    ));
-    items.push(one(
-        Tgc,
-        vec![
-            0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.5, 0.3,
-        ],
-    ));
-    items.push(one(
-        Tgc,
-        vec![
-            0.0, 0.0, -1.0, 0.2, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.3, 0.6,
-        ],
-    ));
-    items.push(one(Ell, vec![-0.6, 0.0, -0.3, 0.6, 0.0, 0.3, 2.2]));
-    items.push(one(Ell1, vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.5, 0.6]));
-    items.push(one(
-        Ellg,
-        vec![0.0, 0.0, 0.0, 0.8, 0.0, 0.8, 0.0, 0.5, 0.0, -0.5, 0.0, 0.5],
-    ));
+    vec![
+        one(Sph, vec![0.0, 0.0, 0.0, 1.0]),
+        one(Rcc, vec![0.0, 0.0, -1.0, 0.3, 0.2, 2.0, 0.7]),
+        one(
+            Rec,
+            vec![0.0, 0.0, -1.0, 0.0, 0.3, 2.0, 0.9, 0.0, 0.0, 0.0, 0.5, 0.1],
+        ),
+        one(Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.4]),
+        one(
+            Tec,
+            vec![
+                0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 2.0,
+            ],
+        ),
+        one(
+            Tgc,
+            vec![
+                0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.5, 0.3,
+            ],
+        ),
+        one(
+            Tgc,
+            vec![
+                0.0, 0.0, -1.0, 0.2, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.6, 0.0, 0.3, 0.6,
+            ],
+        ),
+        one(Ell, vec![-0.6, 0.0, -0.3, 0.6, 0.0, 0.3, 2.2]),
+        one(Ell1, vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.5, 0.6]),
+        one(
+            Ellg,
+            vec![0.0, 0.0, 0.0, 0.8, 0.0, 0.8, 0.0, 0.5, 0.0, -0.5, 0.0, 0.5],
+        ),
+    ]
+}
+
+/// Bodies with flat faces.
+fn polyhedra() -> Vec<Item> {
+    use BodyKind::*;
+    let mut items = Vec::new();
     items.push(one(Rpp, vec![-0.8, 0.8, -0.6, 0.6, -1.0, 1.0]));
     {
         let a = DVec3::new(1.0, 0.0, 1.0) * 0.8;
@@ -566,6 +580,13 @@ fn all_bodies() -> Scene {
         p.extend([1234.0, 5678.0, 1265.0, 2376.0, 3487.0, 4158.0]);
         items.push(one(ArbF, p));
     }
+    items
+}
+
+/// The torus and an ARS of three curves.
+fn torus_and_ars() -> Vec<Item> {
+    use BodyKind::*;
+    let mut items = Vec::new();
     items.push(one(Tor, vec![0.0, 0.0, 0.0, 0.0, -1.0, 1.0, 0.8, 0.3]));
     {
         let mut p = vec![3.0, 4.0];
@@ -576,7 +597,14 @@ fn all_bodies() -> Scene {
         }
         items.push(one(Ars, p));
     }
-    // Infinite bodies, cut by a sphere.
+    items
+}
+
+/// Infinite bodies, each cut by a unit sphere.
+fn infinite_bodies_cut() -> Vec<Item> {
+    use BodyKind::*;
+    let unit_sphere = (Sph, vec![0.0, 0.0, 0.0, 1.0]);
+    let mut items = Vec::new();
     for inf in [
         (Haf, vec![1.0, -0.5, 1.0, 0.2]),
         (Xyp, vec![0.3]),
@@ -592,6 +620,16 @@ fn all_bodies() -> Scene {
     ] {
         items.push(vec![unit_sphere.clone(), inf]);
     }
+    items
+}
+
+/// Every body type, side by side in a wall facing the camera; the
+/// infinite ones are cut by a sphere.
+fn all_bodies() -> Scene {
+    let mut items = quadric_solids();
+    items.extend(polyhedra());
+    items.extend(torus_and_ars());
+    items.extend(infinite_bodies_cut());
     // Lay the items out on a 7-wide grid in the x-z plane.
     let mut s = Scene {
         camera: Some(Camera::looking_at(
@@ -630,6 +668,27 @@ fn all_bodies() -> Scene {
         );
     }
     s
+}
+
+#[test]
+fn the_wall_of_every_body_type_is_written_whole() {
+    // The scene the POV-Ray comparison renders, checked without POV-Ray:
+    // every type is in it (XCC and ZEC stand for the other infinite
+    // cylinders) and every region is written.
+    let scene = all_bodies();
+    let kinds: std::collections::HashSet<BodyKind> =
+        scene.geometry.bodies.iter().map(|b| b.kind).collect();
+    let missing: Vec<&str> = sv_geom::BODY_TYPES
+        .iter()
+        .map(|t| t.name)
+        .filter(|n| !kinds.iter().any(|k| k.name() == *n))
+        .collect();
+    assert_eq!(missing, ["YCC", "ZCC", "XEC", "YEC"]);
+    let text = pov::write(&scene, 320, 240).unwrap();
+    assert_eq!(
+        text.matches("// region r").count(),
+        scene.geometry.regions.len()
+    );
 }
 
 #[test]

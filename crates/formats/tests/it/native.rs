@@ -79,6 +79,9 @@ fn camera_and_light_rules() {
         errors("CAMERA ORTHO EYE (0,0,5) AT (0,0,0)\n").contains("an ORTHO camera needs HEIGHT")
     );
     assert!(errors("LIGHT L POINT INTENSITY 3\n").contains("a POINT light needs AT (its position)"));
+    // As a script's INTENSITY command says.
+    assert!(errors("LIGHT L POINT AT (0,0,1) INTENSITY -3\n")
+        .contains("an intensity cannot be negative"));
     assert!(
         errors("REGION x = +1\n").contains("region `x` refers to body `1`, which is not defined")
     );
@@ -150,12 +153,9 @@ fn a_deck_included_in_other_units_is_scaled_into_the_scene() {
 
 #[test]
 fn two_decks_in_different_units_share_one_scene() {
-    let decks =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/decks/comgeom");
-    if !decks.is_dir() {
-        eprintln!("skipped: {} is not present", decks.display());
+    let Some(decks) = sv_testdata::shared_decks("comgeom") else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let main = dir.path().join("both.sv");
     std::fs::write(

@@ -1,32 +1,18 @@
 //! The director script language: parsing, name look-up, every diagnostic
 //! with its exact text, and robustness against any input.
 
+use crate::{region, sun_and_lamp};
 use proptest::prelude::*;
 use sv_director::*;
 use sv_formats::native::{merge, Clash, MergeError};
 use sv_formats::script::build_timeline;
 use sv_formats::SourceFile;
-use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+use sv_geom::{Body, BodyKind};
 use sv_math::DVec3;
-use sv_scene::{Camera, Lens, Light, LightKind, RegionProps, Scene};
-
-fn region(name: &str, bodies: &[usize]) -> Region {
-    Region {
-        name: name.into(),
-        zones: vec![Zone {
-            terms: bodies
-                .iter()
-                .map(|&b| Term {
-                    op: Op::Inside,
-                    body: b,
-                })
-                .collect(),
-        }],
-    }
-}
+use sv_scene::{Camera, Lens, RegionProps, Scene};
 
 /// fuselage (sphere at (1,0,2)), hub, blade, ground; SUN and LAMP; a camera.
-fn scene() -> Scene {
+pub(super) fn scene() -> Scene {
     let mut s = Scene::default();
     s.geometry.bodies = vec![
         Body::new("f", BodyKind::Sph, vec![1.0, 0.0, 2.0, 1.0]),
@@ -51,45 +37,27 @@ fn scene() -> Scene {
         DVec3::Z,
         Lens::Fov { vertical_deg: 40.0 },
     ));
-    s.lights = vec![
-        Light {
-            name: "SUN".into(),
-            kind: LightKind::Parallel {
-                dir: DVec3::new(1.0, 1.0, -1.0),
-            },
-            intensity: 1.0,
-            colour: [1.0; 3],
-        },
-        Light {
-            name: "LAMP".into(),
-            kind: LightKind::Point {
-                pos: DVec3::new(0.0, 0.0, 20.0),
-                decay: 2.0,
-            },
-            intensity: 50.0,
-            colour: [1.0; 3],
-        },
-    ];
+    s.lights = sun_and_lamp(DVec3::new(1.0, 1.0, -1.0), 50.0);
     s
 }
 
-const HEADER: &str = "SCENE \"heli.sv\"
+pub(super) const HEADER: &str = "SCENE \"heli.sv\"
 OBJECT ROTOR REGIONS hub blade
 OBJECT HELICOPTER REGIONS fuselage CONTAINS ROTOR
 AXIS 1 POINT (1,0,0) DIR (0,0,1) ON HELICOPTER
 AXIS MAST POINT (0,0,0) DIR (0,0,1) ON HELICOPTER
 ";
 
-fn build(text: &str, scene: &Scene) -> Result<Timeline, String> {
+pub(super) fn build(text: &str, scene: &Scene) -> Result<Timeline, String> {
     let src = SourceFile::new("film.svs", text);
     build_timeline(&src, scene).map_err(|d| d.render_plain())
 }
 
-fn errors(text: &str) -> String {
+pub(super) fn errors(text: &str) -> String {
     errors_in(text, &scene())
 }
 
-fn errors_in(text: &str, scene: &Scene) -> String {
+pub(super) fn errors_in(text: &str, scene: &Scene) -> String {
     match build(text, scene) {
         Ok(_) => "no error".into(),
         Err(e) => e,
@@ -114,7 +82,7 @@ fn diagnostic_expected_number() {
 #[test]
 fn diagnostic_number_missing_at_end() {
     let text = format!("{HEADER}{}\n", "MOVE HELICOPTER (1,0");
-    assert_eq!(errors(&text), "error: expected a number at the end of the line\n --> film.svs:6:21\n  |\n6 | MOVE HELICOPTER (1,0\n  |                     ^\n");
+    assert_eq!(errors(&text), "error: expected a number, found the end of the line\n --> film.svs:6:21\n  |\n6 | MOVE HELICOPTER (1,0\n  |                     ^\n");
 }
 
 #[test]
@@ -126,7 +94,7 @@ fn diagnostic_expected_paren() {
 #[test]
 fn diagnostic_unexpected_after() {
     let text = format!("{HEADER}{}\n", "SHOOT 2 FRAMES");
-    assert_eq!(errors(&text), "error: unexpected `FRAMES` after the command\n --> film.svs:6:9\n  |\n6 | SHOOT 2 FRAMES\n  |         ^^^^^^\n");
+    assert_eq!(errors(&text), "error: unexpected `FRAMES` at the end of the statement\n --> film.svs:6:9\n  |\n6 | SHOOT 2 FRAMES\n  |         ^^^^^^\n");
 }
 
 #[test]
@@ -264,7 +232,7 @@ fn diagnostic_not_a_command() {
 #[test]
 fn diagnostic_contains_nothing() {
     let text = format!("{HEADER}{}\n", "OBJECT TAIL REGIONS ground CONTAINS");
-    assert_eq!(errors(&text), "error: expected an object name at the end of the line\n --> film.svs:6:36\n  |\n6 | OBJECT TAIL REGIONS ground CONTAINS\n  |                                    ^\n");
+    assert_eq!(errors(&text), "error: expected an object name, found the end of the line\n --> film.svs:6:36\n  |\n6 | OBJECT TAIL REGIONS ground CONTAINS\n  |                                    ^\n");
 }
 
 #[test]
@@ -413,7 +381,7 @@ fn a_broken_declaration_is_reported_once() {
         heads,
         [
             "error: expected a number, found `x`",
-            "error: expected an object name at the end of the line"
+            "error: expected an object name, found the end of the line"
         ]
     );
 }
@@ -490,7 +458,7 @@ AIM AT (0,0,0) OVER 2
 "#;
 
 #[test]
-fn a_script_becomes_the_timeline_it_says() {
+fn a_script_declares_its_rate_size_objects_and_axes() {
     let s = scene();
     let t = build(FILM, &s).expect("valid script");
     assert_eq!(t.fps(), 12.0);
@@ -522,6 +490,13 @@ fn a_script_becomes_the_timeline_it_says() {
             on: Some(1)
         }
     );
+}
+
+#[test]
+fn a_script_lists_its_steps_in_order() {
+    let s = scene();
+    let t = build(FILM, &s).expect("valid script");
+    let spec = t.spec();
     let m = |x, y, z| Change::Move {
         target: Target::Object(1),
         by: DVec3::new(x, y, z),
@@ -608,6 +583,12 @@ fn a_script_becomes_the_timeline_it_says() {
             Step::Change(Timed::over(Change::Aim(AimPoint::Point(DVec3::ZERO)), 2)),
         ]
     );
+}
+
+#[test]
+fn the_first_frame_of_a_script_is_the_papers() {
+    let s = scene();
+    let t = build(FILM, &s).expect("valid script");
     // The paper's first frame: moved by (3,0,-1), then turned 15 degrees
     // about AXIS 1, which the move carried to the vertical through (4, 0).
     let f0 = t.scene_at(&s, 0);

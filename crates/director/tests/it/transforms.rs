@@ -1,9 +1,10 @@
 //! Timeline transforms checked against closed-form positions.
 
+use crate::{region, sun_and_lamp};
 use sv_director::*;
-use sv_geom::{Body, BodyKind, Op, Region, Term, Zone};
+use sv_geom::{Body, BodyKind};
 use sv_math::{DMat3, DVec3};
-use sv_scene::{Camera, Lens, Light, LightKind, RegionProps, Scene};
+use sv_scene::{Camera, Lens, LightKind, RegionProps, Scene};
 
 const HELI: usize = 0;
 const ROTOR: usize = 1;
@@ -15,21 +16,6 @@ const MAST: usize = 1;
 const X: usize = 2;
 /// Vertical through (12, 0, 0), carried by the helicopter.
 const OFFSET: usize = 3;
-
-fn region(name: &str, bodies: &[usize]) -> Region {
-    Region {
-        name: name.into(),
-        zones: vec![Zone {
-            terms: bodies
-                .iter()
-                .map(|&b| Term {
-                    op: Op::Inside,
-                    body: b,
-                })
-                .collect(),
-        }],
-    }
-}
 
 /// hull: sphere at (10,0,5); blade: RCC from (10,0,7) along (4,0,0); ground.
 fn base() -> Scene {
@@ -56,25 +42,7 @@ fn base() -> Scene {
         DVec3::Z,
         Lens::Fov { vertical_deg: 40.0 },
     ));
-    s.lights = vec![
-        Light {
-            name: "SUN".into(),
-            kind: LightKind::Parallel {
-                dir: DVec3::new(0.0, 0.0, -1.0),
-            },
-            intensity: 1.0,
-            colour: [1.0; 3],
-        },
-        Light {
-            name: "LAMP".into(),
-            kind: LightKind::Point {
-                pos: DVec3::new(0.0, 0.0, 20.0),
-                decay: 2.0,
-            },
-            intensity: 100.0,
-            colour: [1.0; 3],
-        },
-    ];
+    s.lights = sun_and_lamp(DVec3::new(0.0, 0.0, -1.0), 100.0);
     s
 }
 
@@ -387,7 +355,7 @@ fn zoom_converts_a_field_of_view_to_a_focal_length() {
     let t = timeline(vec![over(
         Change::Zoom(Zoom::Focal {
             focal: 50.0,
-            film_height: 24.0,
+            film_height: Some(24.0),
         }),
         2,
     )]);

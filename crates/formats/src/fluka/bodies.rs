@@ -1,0 +1,521 @@
+//! The body list of a FLUKA geometry: bodies, which may continue over
+//! several lines, and the `$start_…`/`$end_…` directives that move them.
+
+use super::{card, clean, is_name, rotdefi, tokens, Reader, BODY_CODES};
+use crate::did_you_mean;
+use sv_geom::{Body, BodyKind};
+use sv_math::{DAffine3, DVec3};
+
+/// FLUKA body types this reader knows of but does not read.
+const UNSUPPORTED_CODES: [&str; 4] = ["PYX", "PYY", "PYZ", "TET"];
+
+const DIRECTIVES: [&str; 6] = [
+    "$start_translat",
+    "$end_translat",
+    "$start_expansion",
+    "$end_expansion",
+    "$start_transform",
+    "$end_transform",
+];
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DirKind {
+    Translat,
+    Expansion,
+    Transform,
+}
+
+impl DirKind {
+    fn name(self) -> &'static str {
+        match self {
+            DirKind::Translat => "translat",
+            DirKind::Expansion => "expansion",
+            DirKind::Transform => "transform",
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Directive {
+    kind: DirKind,
+    factor: f64,
+    shift: DVec3,
+    xf: DAffine3,
+    line: usize,
+    col: usize,
+    len: usize,
+}
+
+struct PendingBody {
+    /// (line index, column, text) of each word.
+    words: Vec<(usize, usize, String)>,
+}
+
+fn starts_numeric(s: &str) -> bool {
+    s.starts_with(|c: char| c.is_ascii_digit() || c == '+' || c == '-' || c == '.')
+}
+
+fn body_code(s: &str) -> Option<BodyKind> {
+    BODY_CODES
+        .iter()
+        .find(|(c, _)| c.eq_ignore_ascii_case(s))
+        .map(|(_, k)| *k)
+}
+
+/// The body code a mistyped one was meant to be: one with the same letters
+/// in another order (`SHP` → `SPH`), else the closest by edit distance.
+fn suggest_code(code: &str) -> Option<&'static str> {
+    let mut letters: Vec<char> = code.to_ascii_uppercase().chars().collect();
+    letters.sort_unstable();
+    let anagram = BODY_CODES.iter().map(|(c, _)| *c).find(|c| {
+        let mut l: Vec<char> = c.chars().collect();
+        l.sort_unstable();
+        l == letters
+    });
+    anagram.or_else(|| did_you_mean(code, BODY_CODES.iter().map(|(c, _)| *c)))
+}
+
+/// The name of value `i` of a body type (`V` components become `Vx`, `Vy`, `Vz`).
+fn value_name(kind: BodyKind, i: usize) -> String {
+    let mut at = 0;
+    for p in kind.info().params {
+        let w = p.kind.width();
+        if i < at + w {
+            return if w == 3 {
+                format!("{}{}", p.name, ["x", "y", "z"][i - at])
+            } else {
+                p.name.to_string()
+            };
+        }
+        at += w;
+    }
+    format!("#{}", i + 1)
+}
+
+/// Where the directives around a body put it: all expansions act first
+/// (they multiply), then all translations (they add up), then the
+/// transforms, the innermost first.
+fn placement(stack: &[Directive]) -> DAffine3 {
+    let mut factor = 1.0;
+    let mut shift = DVec3::ZERO;
+    let mut turn = DAffine3::IDENTITY;
+    for d in stack {
+        match d.kind {
+            DirKind::Expansion => factor *= d.factor,
+            DirKind::Translat => shift += d.shift,
+            DirKind::Transform => turn *= d.xf,
+        }
+    }
+    turn * DAffine3::from_translation(shift) * DAffine3::from_scale(DVec3::splat(factor))
+}
+
+/// `V(3) H(3) R` for a body type.
+fn layout(kind: BodyKind) -> String {
+    kind.info()
+        .params
+        .iter()
+        .map(|p| {
+            if p.kind.width() == 3 {
+                format!("{}(3)", p.name)
+            } else {
+                p.name.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+impl Reader {
+    /// Read bodies from line `start`; the index after END, or `None` when
+    /// END is missing.
+    pub(super) fn bodies_section(&mut self, start: usize, end: usize) -> Option<usize> {
+        let mut stack: Vec<Directive> = Vec::new();
+        let mut pending: Option<PendingBody> = None;
+        let mut result = None;
+        for k in start..end {
+            let text = clean(&self.lines[k].text).to_string();
+            let words: Vec<(usize, String)> = tokens(&text)
+                .into_iter()
+                .map(|(c, w)| (c, w.to_string()))
+                .collect();
+            let Some((col0, first)) = words.first().cloned() else {
+                continue;
+            };
+            if first.starts_with('$') {
+                if let Some(p) = pending.take() {
+                    self.finish_body(&p, &stack);
+                }
+                self.directive(k, &words, &mut stack);
+            } else if first.eq_ignore_ascii_case("END") && words.len() == 1 {
+                if let Some(p) = pending.take() {
+                    self.finish_body(&p, &stack);
+                }
+                result = Some(k + 1);
+                break;
+            } else if starts_numeric(&first) {
+                match &mut pending {
+                    Some(p) => p.words.extend(words.into_iter().map(|(c, w)| (k, c, w))),
+                    None => {
+                        self.err(
+                            k,
+                            col0,
+                            first.chars().count(),
+                            format!("expected a body type, found `{first}`"),
+                        )
+                        .hint = Some(
+                            "a body starts with its type and name, as in `RPP box 0 1 0 1 0 1`"
+                                .into(),
+                        );
+                    }
+                }
+            } else {
+                if let Some(p) = pending.take() {
+                    self.finish_body(&p, &stack);
+                }
+                pending = Some(PendingBody {
+                    words: words.into_iter().map(|(c, w)| (k, c, w)).collect(),
+                });
+            }
+        }
+        if let Some(p) = pending.take() {
+            // END is missing: the last body still counts.
+            self.finish_body(&p, &stack);
+        }
+        for d in stack {
+            let name = format!("$start_{}", d.kind.name());
+            self.err(d.line, d.col, d.len, format!("`{name}` is never closed"))
+                .hint = Some(format!(
+                "add `$end_{}` after the bodies it applies to",
+                d.kind.name()
+            ));
+        }
+        result
+    }
+
+    /// A `$start_…` or `$end_…` line: opens a directive on `stack` (even a
+    /// faulty one, so that its `$end_…` matches) or closes the innermost of
+    /// its kind.
+    fn directive(&mut self, line: usize, words: &[(usize, String)], stack: &mut Vec<Directive>) {
+        let (col, word) = (words[0].0, words[0].1.as_str());
+        let len = word.chars().count();
+        let lower = word.to_ascii_lowercase();
+        let args = &words[1..];
+        let (start, kind) = match lower.as_str() {
+            "$start_translat" => (true, DirKind::Translat),
+            "$end_translat" => (false, DirKind::Translat),
+            "$start_expansion" => (true, DirKind::Expansion),
+            "$end_expansion" => (false, DirKind::Expansion),
+            "$start_transform" => (true, DirKind::Transform),
+            "$end_transform" => (false, DirKind::Transform),
+            _ => {
+                let hint = did_you_mean(&lower, DIRECTIVES).map(|s| format!("did you mean `{s}`?"));
+                self.err(
+                    line,
+                    col,
+                    len,
+                    format!("unknown geometry directive `{word}`"),
+                )
+                .hint = hint;
+                return;
+            }
+        };
+        let want = match (start, kind) {
+            (false, _) => 0,
+            (true, DirKind::Translat) => 3,
+            (true, _) => 1,
+        };
+        if let Some((extra_col, extra)) = args.get(want) {
+            self.err(
+                line,
+                *extra_col,
+                extra.chars().count(),
+                format!("unexpected `{extra}` after `{word}`"),
+            );
+        }
+        if !start {
+            match stack.iter().rposition(|d| d.kind == kind) {
+                Some(open) => {
+                    stack.remove(open);
+                }
+                None => {
+                    self.err(
+                        line,
+                        col,
+                        len,
+                        format!("`{word}` without a matching `$start_{}`", kind.name()),
+                    );
+                }
+            }
+            return;
+        }
+        let mut opened = Directive {
+            kind,
+            factor: 1.0,
+            shift: DVec3::ZERO,
+            xf: DAffine3::IDENTITY,
+            line,
+            col,
+            len,
+        };
+        if args.len() < want {
+            let what = match kind {
+                DirKind::Translat => "three numbers dx dy dz",
+                DirKind::Expansion => "a factor",
+                DirKind::Transform => "the name of a ROT-DEFI transformation",
+            };
+            self.err(line, col, len, format!("`{word}` needs {what}"));
+        } else {
+            match kind {
+                DirKind::Translat => opened.shift = self.translation(line, word, args),
+                DirKind::Expansion => opened.factor = self.expansion(line, word, &args[0]),
+                DirKind::Transform => opened.xf = self.transform(line, &args[0]),
+            }
+        }
+        stack.push(opened);
+    }
+
+    /// The shift of `$start_translat dx dy dz` (a bad number counts as 0).
+    fn translation(&mut self, line: usize, word: &str, args: &[(usize, String)]) -> DVec3 {
+        let mut shift = [0.0; 3];
+        for (axis, (col, text)) in args.iter().take(3).enumerate() {
+            match card::number(text) {
+                Some(v) => shift[axis] = v,
+                None => {
+                    self.err(
+                        line,
+                        *col,
+                        text.chars().count(),
+                        format!("expected a number for `{word}`, found `{text}`"),
+                    );
+                }
+            }
+        }
+        DVec3::from(shift)
+    }
+
+    /// The factor of `$start_expansion f` (1 when it is not a positive
+    /// number).
+    fn expansion(&mut self, line: usize, word: &str, (col, text): &(usize, String)) -> f64 {
+        match card::number(text) {
+            Some(f) if f > 0.0 => f,
+            _ => {
+                self.err(
+                    line,
+                    *col,
+                    text.chars().count(),
+                    format!("`{word}` needs a positive factor, found `{text}`"),
+                );
+                1.0
+            }
+        }
+    }
+
+    /// The transformation `$start_transform [-]name` names (by ROT-DEFI
+    /// name or index; `-` for its inverse), or the identity when there is
+    /// none.
+    fn transform(&mut self, line: usize, (col, text): &(usize, String)) -> DAffine3 {
+        let (inverse, name) = match text.strip_prefix('-') {
+            Some(n) => (true, n),
+            None => (false, text.as_str()),
+        };
+        let key = if self.rot.contains_key(name) {
+            Some(name.to_string())
+        } else {
+            name.parse::<i64>()
+                .ok()
+                .and_then(|i| self.rot_index.get(&i).cloned())
+        };
+        if let Some(cards) = key.and_then(|k| self.rot.get(&k)) {
+            let xf = rotdefi::compose(cards);
+            return if inverse { xf.inverse() } else { xf };
+        }
+        let hint = self.hint_among(name, self.rot.keys());
+        let e = self.err(
+            line,
+            *col,
+            text.chars().count(),
+            format!("undefined transformation `{name}`: no ROT-DEFI card has this name"),
+        );
+        e.hint = hint.or(Some(
+            "define it with a ROT-DEFI card whose SDUM is the name".into(),
+        ));
+        DAffine3::IDENTITY
+    }
+
+    /// A body whose words are all read: checked, moved by the directives
+    /// around it and added, or reported.
+    fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
+        let (line, col, code) = &pending.words[0];
+        let code_len = code.chars().count();
+        let Some(kind) = self.body_kind(pending) else {
+            return;
+        };
+        let code = code.to_ascii_uppercase();
+        let Some(name) = self.body_name(pending, &code) else {
+            return;
+        };
+        let at = |reader: &mut Reader, msg: String| {
+            reader.err(*line, *col, code_len, msg);
+            reader.bad_bodies.insert(name.to_string());
+        };
+        let Some(params) = self.body_values(pending, kind, &code, name) else {
+            self.bad_bodies.insert(name.to_string());
+            return;
+        };
+        let mut body = Body::new(name, kind, params);
+        if !stack.is_empty() {
+            let xf = placement(stack);
+            let det = xf.matrix3.determinant();
+            if !(xf.is_finite() && det.is_finite() && det > 0.0) {
+                let msg = format!(
+                    "the directives around body `{name}` make a transformation out of range"
+                );
+                return at(self, msg);
+            }
+            match body.transformed(&xf) {
+                Ok(moved) => body = moved,
+                Err(err) => return at(self, format!("cannot transform body `{name}`: {err}")),
+            }
+        }
+        if body.params.iter().any(|v| !v.is_finite()) {
+            let msg = format!("body `{name}` has a value out of range after its transformation");
+            return at(self, msg);
+        }
+        self.body_index.insert(name.to_string(), self.bodies.len());
+        self.bodies.push(body);
+        self.body_lines.push(*line);
+    }
+
+    /// The kind of a body's code, or `None` (reported) for an unknown or
+    /// unsupported one.
+    fn body_kind(&mut self, pending: &PendingBody) -> Option<BodyKind> {
+        let (line, col, code) = &pending.words[0];
+        let (line, col, code_len) = (*line, *col, code.chars().count());
+        if let Some(kind) = body_code(code) {
+            return Some(kind);
+        }
+        if UNSUPPORTED_CODES
+            .iter()
+            .any(|c| c.eq_ignore_ascii_case(code))
+        {
+            let list = BODY_CODES
+                .iter()
+                .map(|(c, _)| *c)
+                .collect::<Vec<_>>()
+                .join(" ");
+            self.err(
+                line,
+                col,
+                code_len,
+                format!("FLUKA body type `{code}` is not supported"),
+            )
+            .hint = Some(format!("supported body types: {list}"));
+        } else {
+            let hint = suggest_code(code).map(|s| format!("did you mean `{s}`?"));
+            self.err(line, col, code_len, format!("unknown body type `{code}`"))
+                .hint = hint;
+        }
+        if let Some((_, _, name)) = pending.words.get(1) {
+            self.bad_bodies.insert(name.clone());
+        }
+        None
+    }
+
+    /// The body's name, when it is a new, well-formed one (else reported).
+    fn body_name<'p>(&mut self, pending: &'p PendingBody, code: &str) -> Option<&'p str> {
+        let (line, col, code_len) = (pending.words[0].0, pending.words[0].1, code.chars().count());
+        let Some((name_line, name_col, name)) =
+            pending.words.get(1).map(|(l, c, n)| (*l, *c, n.as_str()))
+        else {
+            self.err(line, col, code_len, format!("`{code}` body has no name"));
+            return None;
+        };
+        let name_len = name.chars().count();
+        if starts_numeric(name) {
+            self.err(
+                name_line,
+                name_col,
+                name_len,
+                format!("expected a body name after `{code}`, found `{name}`"),
+            );
+            return None;
+        }
+        if !is_name(name) {
+            self.err(name_line, name_col, name_len, format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
+            self.bad_bodies.insert(name.to_string());
+            return None;
+        }
+        if let Some(&first) = self.body_index.get(name) {
+            let hint = self.where_is(self.body_lines[first]);
+            self.err(
+                name_line,
+                name_col,
+                name_len,
+                format!("body `{name}` is defined twice"),
+            )
+            .hint = Some(format!("the first definition is on {hint}"));
+            return None;
+        }
+        Some(name)
+    }
+
+    /// The body's values: as many as its kind takes, all numbers (else
+    /// every problem is reported and `None` returned).
+    fn body_values(
+        &mut self,
+        pending: &PendingBody,
+        kind: BodyKind,
+        code: &str,
+        name: &str,
+    ) -> Option<Vec<f64>> {
+        let (line, col) = (pending.words[0].0, pending.words[0].1);
+        let values = &pending.words[2..];
+        let want = kind.info().value_count();
+        let mut ok = true;
+        if values.len() != want {
+            self.err(
+                line,
+                col,
+                code.chars().count(),
+                format!(
+                    "{code} `{name}` needs {want} values, found {}",
+                    values.len()
+                ),
+            )
+            .hint = Some(format!("{code} values: {}", layout(kind)));
+            ok = false;
+        }
+        let mut params = Vec::with_capacity(want);
+        for (i, (value_line, value_col, text)) in values.iter().enumerate().take(want) {
+            match card::number(text) {
+                Some(v) => params.push(v),
+                None => {
+                    let what = value_name(kind, i);
+                    self.err(
+                        *value_line,
+                        *value_col,
+                        text.chars().count(),
+                        format!(
+                            "expected a number for {code} `{name}` value {} ({what}), found `{text}`",
+                            i + 1
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        ok.then_some(params)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn value_names_follow_the_table() {
+        assert_eq!(value_name(BodyKind::Rcc, 6), "R");
+        assert_eq!(value_name(BodyKind::Rcc, 4), "Hy");
+        assert_eq!(layout(BodyKind::Rcc), "V(3) H(3) R");
+    }
+}

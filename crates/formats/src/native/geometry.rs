@@ -1,0 +1,228 @@
+//! The BODY and REGION statements.
+
+use super::Names;
+use crate::camera_light::colour;
+use crate::diag::{did_you_mean, Diagnostic};
+use crate::text::{Cursor, Token};
+use sv_geom::{Body, BodyKind, Op, Region, Term, Zone, BODY_TYPES};
+use sv_scene::{RegionProps, Scene};
+
+/// `BODY name TYPE values…`, after the keyword.
+pub(super) fn body(line: &mut Cursor, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
+    let name = line.any("a body name or number")?;
+    let type_token = line.any("a body type (SPH, RCC, …)")?;
+    let Some(kind) = BodyKind::from_name(type_token.text) else {
+        let mut d = line.error(
+            &type_token,
+            format!("unknown body type `{}`", type_token.text),
+        );
+        let type_names = BODY_TYPES
+            .iter()
+            .flat_map(|t| std::iter::once(t.name).chain(t.aliases.iter().copied()));
+        if let Some(s) = did_you_mean(type_token.text, type_names) {
+            d = d.with_hint(format!("did you mean `{s}`?"));
+        }
+        line.skip_rest();
+        return Err(d);
+    };
+    let first_value = line.peek();
+    let purpose = format!("{kind} parameters");
+    let mut params = Vec::new();
+    while line.peek().is_some() {
+        params.push(line.number(Some(&purpose))?);
+    }
+    let info = kind.info();
+    let want = info.value_count();
+    let count_ok = if kind == BodyKind::Ars {
+        params.len() >= 2
+            && params[0] >= 0.0
+            && params[1] >= 0.0
+            && params.len() as f64 == 2.0 + 3.0 * params[0] * params[1]
+    } else {
+        params.len() == want
+    };
+    if !count_ok {
+        let span = first_value.map_or(line.end(), |t| t.span);
+        let (want_text, hint) = if kind == BodyKind::Ars {
+            (
+                "curves, points per curve, then 3 values per point".to_string(),
+                "ARS: curves points x y z …".to_string(),
+            )
+        } else {
+            let layout: Vec<&str> = info.params.iter().map(|p| p.name).collect();
+            (
+                format!("{want} values"),
+                format!("{kind}: {}", layout.join(" ")),
+            )
+        };
+        return Err(line
+            .error_at(
+                span,
+                format!("{kind} takes {want_text}, found {}", params.len()),
+            )
+            .with_hint(hint));
+    }
+    if names.bodies.contains_key(name.text) {
+        return Err(line.error(&name, format!("body `{}` is defined twice", name.text)));
+    }
+    scene
+        .geometry
+        .bodies
+        .push(Body::new(name.text.to_string(), kind, params));
+    Ok(())
+}
+
+const REGION_PROPS: &[&str] = &["COLOR", "COLOUR", "K", "TRANSPARENT", "OPAQUE", "DENSITY"];
+
+/// `REGION name = zones [properties]` defines a region,
+/// `REGION name properties` changes one defined earlier.
+pub(super) fn region(
+    line: &mut Cursor,
+    scene: &mut Scene,
+    names: &Names,
+) -> Result<(), Diagnostic> {
+    let name = line.any("a region name or number")?;
+    let existing = names.regions.get(name.text).copied();
+    let mut props = existing
+        .map(|i| scene.regions[i].clone())
+        .unwrap_or_default();
+    let index = if line.peek().is_some_and(|t| t.text == "=") {
+        line.advance();
+        if existing.is_some() {
+            return Err(line.error(&name, format!("region `{}` is defined twice", name.text)));
+        }
+        let zones = zones(line, &name, scene, names)?;
+        scene.push_region(
+            Region {
+                name: name.text.to_string(),
+                zones,
+            },
+            RegionProps::default(),
+        )
+    } else {
+        match existing {
+            Some(i) => i,
+            None => return Err(undefined_region(line, &name, scene)),
+        }
+    };
+    properties(line, &mut props)?;
+    scene.regions[index] = props;
+    Ok(())
+}
+
+/// The zones after `=`: `+body` and `-body` terms, `OR` between zones, up
+/// to the first property.
+fn zones(
+    line: &mut Cursor,
+    name: &Token,
+    scene: &Scene,
+    names: &Names,
+) -> Result<Vec<Zone>, Diagnostic> {
+    let mut zones = vec![Zone::default()];
+    let mut errors = Vec::new();
+    while let Some(t) = line.peek() {
+        if REGION_PROPS.iter().any(|p| p.eq_ignore_ascii_case(t.text)) {
+            break;
+        }
+        line.advance();
+        if t.text.eq_ignore_ascii_case("OR") {
+            zones.push(Zone::default());
+            continue;
+        }
+        let (op, body) = match t.text.chars().next() {
+            Some('+') => (Op::Inside, &t.text[1..]),
+            Some('-') => (Op::Outside, &t.text[1..]),
+            _ => {
+                errors.push(bad_term(line, &t));
+                continue;
+            }
+        };
+        match names.bodies.get(body).copied() {
+            Some(b) => zones
+                .last_mut()
+                .expect("zones start with one")
+                .terms
+                .push(Term { op, body: b }),
+            None => {
+                let d = line.error(
+                    &t,
+                    format!(
+                        "region `{}` refers to body `{body}`, which is not defined",
+                        name.text
+                    ),
+                );
+                let body_names = scene.geometry.bodies.iter().map(|b| b.name.as_str());
+                errors.push(match did_you_mean(body, body_names) {
+                    Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                    None => d.with_hint("define bodies before the regions that use them"),
+                });
+            }
+        }
+    }
+    if let Some(e) = errors.into_iter().next() {
+        // Report the first; the rest of the line is likely the same mistake.
+        return Err(e);
+    }
+    if zones.iter().any(|z| z.terms.is_empty()) {
+        return Err(line
+            .error(name, format!("region `{}` has an empty zone", name.text))
+            .with_hint("every OR must be followed by at least one body"));
+    }
+    Ok(zones)
+}
+
+/// A word among the zones that is neither a term nor OR.
+fn bad_term(line: &Cursor, t: &Token) -> Diagnostic {
+    match did_you_mean(t.text, REGION_PROPS.iter().copied()) {
+        Some(p) => line
+            .error(t, format!("unknown region property `{}`", t.text))
+            .with_hint(format!("did you mean `{p}`?")),
+        None => line
+            .error(
+                t,
+                format!("expected `+body`, `-body` or OR, found `{}`", t.text),
+            )
+            .with_hint("write `+1` to intersect with body 1 and `-2` to subtract body 2"),
+    }
+}
+
+fn undefined_region(line: &Cursor, name: &Token, scene: &Scene) -> Diagnostic {
+    let d = line.error(name, format!("region `{}` is not defined", name.text));
+    let region_names = scene.geometry.regions.iter().map(|r| r.name.as_str());
+    match did_you_mean(name.text, region_names) {
+        Some(s) => d.with_hint(format!(
+            "did you mean `{s}`? (a new region needs `= +body …`)"
+        )),
+        None => d.with_hint("a new region is written `REGION name = +body -body …`"),
+    }
+}
+
+/// COLOR, K, TRANSPARENT, OPAQUE and DENSITY, to the end of the line.
+fn properties(line: &mut Cursor, props: &mut RegionProps) -> Result<(), Diagnostic> {
+    while let Some(t) = line.advance() {
+        match t.text.to_ascii_uppercase().as_str() {
+            "COLOR" | "COLOUR" => props.colour = Some(colour(line)?),
+            "K" => {
+                let k = line.number(Some("the reflectivity k"))?;
+                if !(0.0..=1.0).contains(&k) {
+                    return Err(line.error(
+                        &t,
+                        format!("reflectivity k must lie between 0 and 1 (is {k})"),
+                    ));
+                }
+                props.k = k;
+            }
+            "TRANSPARENT" => props.transparent = true,
+            "OPAQUE" => props.transparent = false,
+            "DENSITY" => props.density = Some(line.number(Some("the density (g/cm³)"))?),
+            other => {
+                let mut d = line.error(&t, format!("unknown region property `{}`", t.text));
+                if let Some(s) = did_you_mean(other, REGION_PROPS.iter().copied()) {
+                    d = d.with_hint(format!("did you mean `{s}`?"));
+                }
+                return Err(d);
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,123 @@
+//! Materials, titles, lattices and comments.
+
+use super::*;
+
+#[test]
+fn materials_and_black_holes() {
+    let Some(l) = input("001_RPP.inp") else {
+        return;
+    };
+    let i = l.scene.geometry.region_index("blackhole").unwrap();
+    assert!(l.scene.regions[i].transparent);
+    assert_eq!(l.scene.regions[i].description, "material: BLCKHOLE");
+    let j = l.scene.geometry.region_index("rppreg").unwrap();
+    assert!(!l.scene.regions[j].transparent);
+    assert_eq!(l.scene.regions[j].description, "material: BERYLLIU");
+    // `ASSIGNMA BLCKHOLE bbr` names a region that does not exist.
+    let w: Vec<_> = l
+        .warnings
+        .iter()
+        .map(|w| (w.line_col(), w.message.as_str()))
+        .collect();
+    assert_eq!(w, [((18, 28), "ASSIGNMA refers to undefined region `bbr`")]);
+    // A range: ASSIGNMA , BERYLLIU, BE3, BE4 (free format).
+    let l = input("manualSimpleFileFixed.inp").unwrap();
+    let d: Vec<_> = l
+        .scene
+        .regions
+        .iter()
+        .map(|p| p.description.as_str())
+        .collect();
+    assert_eq!(
+        d,
+        [
+            "material: BLCKHOLE",
+            "material: VACUUM",
+            "material: BERYLLIU",
+            "material: BERYLLIU"
+        ]
+    );
+    assert_eq!(l.scene.regions[1].air, 1);
+    assert!(
+        l.scene.regions[1].transparent,
+        "vacuum is air: hidden unless --show-air"
+    );
+    assert_eq!(
+        l.scene.title,
+        "Charged pion fluence inside and around a proton-irradiated Be target"
+    );
+    // No ASSIGNMA at all.
+    let l = read_text(&geo("SPH a 0 0 0 1", "r 5 +a")).unwrap();
+    assert!(!l.scene.regions[0].transparent);
+    assert_eq!(
+        l.scene.notes,
+        ["no ASSIGNMA cards: every region is drawn opaque"]
+    );
+}
+
+#[test]
+fn titles() {
+    let Some(l) = input("104_shift_cylinders.inp") else {
+        return;
+    };
+    assert_eq!(l.scene.title, "Correctly shift the cylinder alon its axis.");
+    // With an empty TITLE the geometry title line is used.
+    let l = input("601_filter_redundant_halfspaces.inp").unwrap();
+    assert_eq!(l.scene.title, "MC-CAD");
+    let l = input("manualSimpleFileFree.inp").unwrap();
+    assert_eq!(
+        l.scene
+            .regions
+            .iter()
+            .map(|p| p.description.as_str())
+            .collect::<Vec<_>>(),
+        [
+            "material: BLCKHOLE",
+            "material: VACUUM",
+            "material: BERYLLIU",
+            "material: BERYLLIU"
+        ]
+    );
+}
+
+#[test]
+fn lattice_containers_are_kept_and_noted() {
+    let Some(l) = input("701_LATTICE.inp") else {
+        return;
+    };
+    assert_eq!(
+        l.scene.notes,
+        ["LATTICE replicas are not drawn: lattice cell REPLICA is drawn as a plain region (its container only)"]
+    );
+    let l = input("702_LATTICE.inp").unwrap();
+    assert!(l.scene.geometry.region_index("REPLICA").is_some());
+    assert_eq!(zones(&l, "REPLICA"), ["+repl -repl2"]);
+    assert_eq!(l.scene.notes, ["LATTICE replicas are not drawn: lattice cells REPLICA, REPLIC2 are drawn as plain regions (their containers only)"]);
+    let text =
+        geo("SPH a 0 0 0 1", "r 5 +a").replace("END\nGEOEND", "END\nLATTICE      cell\nGEOEND");
+    assert_eq!(
+        errors(&text),
+        [(
+            9,
+            14,
+            "LATTICE refers to undefined region `cell`".to_string()
+        )]
+    );
+}
+
+#[test]
+fn a_comment_before_the_geometry_title_is_skipped() {
+    let text = geo("SPH a 0 0 0 1", "r 5 +a").replace("COMBNAME\n", "COMBNAME\n* note\n");
+    let l = read_text(&text.replace("TITLE\nhand-made\n", "")).unwrap();
+    assert_eq!(l.scene.title, "test");
+}
+
+#[test]
+fn comments_are_skipped() {
+    let text = geo(
+        "* a comment\nSPH a 0 0 0 1 ! trailing\n!whole line",
+        "* note\nr 5 +a ! comment -b",
+    );
+    let l = read_text(&text).unwrap();
+    assert_eq!(zones(&l, "r"), ["+a"]);
+}

@@ -1,0 +1,88 @@
+//! A worker's memory, made once per worker and render and reused from tile
+//! to tile.
+
+use crate::tiles::BandLists;
+use crossbeam_utils::CachePadded;
+use std::sync::Mutex;
+use sv_math::{DVec3, Ray};
+use sv_trace::{Hit, LightAt, Occluders, Prepared, Scratch, ShadowBuffers};
+
+/// A worker's memory, reused from tile to tile.
+pub(crate) struct Workspace<'a> {
+    /// Ray scratch.
+    pub(crate) scratch: Scratch,
+    /// The zones of the band's tiles.
+    pub(crate) lists: BandLists,
+    /// The tile's zones with their entry bounds, sorted.
+    pub(crate) sorted: Vec<(f64, u32)>,
+    /// The raster positions of the tile's primary rays, and the rays.
+    pub(crate) pts: Vec<[f64; 2]>,
+    pub(crate) rays: Vec<Ray>,
+    /// The rays of the tile's hits, in the order of `hits`.
+    pub(crate) hit_rays: Vec<Ray>,
+    /// The tile's primary rays that hit: their sample number in the tile
+    /// (an index into `rays`) and the hit, in as many first entries as
+    /// there are hits. Rays that miss are not kept; the entries past the
+    /// hits are slots kept for the next tile.
+    pub(crate) hits: Vec<(u32, Hit)>,
+    /// The surface normal at each hit, in the order of `hits`.
+    pub(crate) normals: Vec<DVec3>,
+    /// Where the tile's shadow rays look for occluders.
+    pub(crate) occluders: Occluders<'a>,
+}
+
+impl<'a> Workspace<'a> {
+    /// A worker's memory for `p`, its shadow rays toward `lights` asked of
+    /// `buffers` (none: the whole hierarchy).
+    pub(crate) fn new(
+        p: &Prepared,
+        lights: &[LightAt],
+        buffers: Option<&'a ShadowBuffers>,
+    ) -> Workspace<'a> {
+        Workspace {
+            scratch: Scratch::new(p),
+            lists: BandLists::default(),
+            sorted: Vec::new(),
+            pts: Vec::new(),
+            rays: Vec::new(),
+            hits: Vec::new(),
+            hit_rays: Vec::new(),
+            normals: Vec::new(),
+            occluders: Occluders::new(lights, buffers),
+        }
+    }
+}
+
+/// One [`Workspace`] per worker thread, made once a render: a `Scratch` is
+/// sized by the body count, too big to make for every piece of work. Each
+/// is made by its own thread on first use, so that its heap blocks come
+/// from that thread's arena, and each sits on cache lines of its own:
+/// workers that wrote to one line (a small vector, or neighbouring vector
+/// headers) made two threads barely faster than one.
+pub(crate) struct Workers<'a> {
+    slots: Vec<CachePadded<Mutex<Option<Workspace<'a>>>>>,
+}
+
+impl<'a> Workers<'a> {
+    /// A slot for each thread of the current pool.
+    pub(crate) fn new() -> Workers<'a> {
+        Workers {
+            slots: (0..rayon::current_num_threads())
+                .map(|_| CachePadded::new(Mutex::new(None)))
+                .collect(),
+        }
+    }
+
+    /// Run `work` with the calling thread's workspace, made by `make` on
+    /// its first use.
+    #[inline]
+    pub(crate) fn with<R>(
+        &self,
+        make: impl FnOnce() -> Workspace<'a>,
+        work: impl FnOnce(&mut Workspace<'a>) -> R,
+    ) -> R {
+        let i = rayon::current_thread_index().unwrap_or(0) % self.slots.len();
+        let mut slot = self.slots[i].lock().unwrap_or_else(|e| e.into_inner());
+        work(slot.get_or_insert_with(make))
+    }
+}

@@ -25,8 +25,8 @@
 //! s.geometry.bodies.push(Body::new("a", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]));
 //! s.geometry.bodies.push(Body::new("b", BodyKind::Sph, vec![1.5, 0.0, 0.0, 1.0]));
 //! for (name, body) in [("A", 0), ("B", 1)] {
-//!     let zone = Zone { terms: vec![Term { op: Op::Inside, body }] };
-//!     s.push_region(Region { name: name.into(), zones: vec![zone] }, RegionProps::default());
+//!     let zone = Zone::new(vec![Term { op: Op::Inside, body }]);
+//!     s.push_region(Region::new(name, vec![zone]), RegionProps::default());
 //! }
 //! let (model, _) = Model::new(&s, &UniverseChoice::None).unwrap();
 //! let report = check(&model, &CheckOptions::default()).unwrap();

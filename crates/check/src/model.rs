@@ -262,12 +262,10 @@ impl Model {
 
 fn build_hull(g: &Geometry, u: Universe) -> Result<Hull, CheckError> {
     let zones: Vec<Zone> = match u {
-        Universe::Body(b) => vec![Zone {
-            terms: vec![sv_geom::Term {
-                op: Op::Inside,
-                body: b,
-            }],
-        }],
+        Universe::Body(b) => vec![Zone::new(vec![sv_geom::Term {
+            op: Op::Inside,
+            body: b,
+        }])],
         Universe::Region(r) => {
             let mut zs = Vec::new();
             for z in &g.regions[r].zones {
@@ -280,17 +278,15 @@ fn build_hull(g: &Geometry, u: Universe) -> Result<Hull, CheckError> {
                 if terms.is_empty() {
                     return Ok(Hull::Everywhere);
                 }
-                zs.push(Zone { terms });
+                zs.push(Zone::new(terms));
             }
             zs
         }
     };
     let hg = Geometry {
         bodies: g.bodies.clone(),
-        regions: vec![Region {
-            name: "universe".into(),
-            zones,
-        }],
+        regions: vec![Region::new("universe", zones)],
+        ..Geometry::default()
     };
     let (p, _) = Prepared::new(&hg, &PrepareOptions::default())?;
     Ok(Hull::Prepared(Box::new(p)))

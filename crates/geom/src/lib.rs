@@ -23,10 +23,12 @@
 mod body;
 pub mod boolean;
 mod model;
+mod region;
 pub mod shape;
 pub mod table;
 
 pub use body::{prepare, Prepare, Warning};
-pub use model::{cyl_axes, quadric_matrix, Body, Geometry, Op, Region, Term, TransformError, Zone};
+pub use model::{cyl_axes, quadric_matrix, Body, Geometry, TransformError};
+pub use region::{Fill, Group, Lattice, LatticeKind, Op, Region, Term, Universe, Zone};
 pub use shape::{arb_points, ars_triangles};
 pub use table::{BodyKind, BodyType, Param, ParamKind, BODY_TYPES};

@@ -1,5 +1,6 @@
 //! Bodies and regions as the user wrote them (before `prepare`).
 
+use crate::region::{Region, Universe};
 use crate::table::{BodyKind, ParamKind};
 use sv_math::{DAffine3, DMat3, DVec3};
 
@@ -16,80 +17,17 @@ pub struct Body {
     pub params: Vec<f64>,
 }
 
-/// Boolean operator of a term inside a zone.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Op {
-    /// `+`: intersect with the body.
-    Inside,
-    /// `-`: subtract the body.
-    Outside,
-}
-
-/// One signed body reference in a zone.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Term {
-    /// `+` or `-`.
-    pub op: Op,
-    /// Index into [`Geometry::bodies`].
-    pub body: usize,
-}
-
-/// A zone: the intersection of its `+` terms minus its `-` terms.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Zone {
-    /// Terms, in the order written.
-    pub terms: Vec<Term>,
-}
-
-impl Zone {
-    /// The zone as written: `+a -b`, naming bodies with `name`.
-    pub fn expression<'a>(&self, name: impl Fn(usize) -> &'a str) -> String {
-        let terms: Vec<String> = self
-            .terms
-            .iter()
-            .map(|t| {
-                format!(
-                    "{}{}",
-                    if t.op == Op::Inside { '+' } else { '-' },
-                    name(t.body)
-                )
-            })
-            .collect();
-        terms.join(" ")
-    }
-}
-
-/// A region: the union of its zones (GIFT `OR`, FLUKA `|`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Region {
-    /// Name or number.
-    pub name: String,
-    /// Zones, unioned.
-    pub zones: Vec<Zone>,
-}
-
-impl Region {
-    /// The region `name` of one zone: body `body` alone.
-    pub fn of_body(name: impl Into<String>, body: usize) -> Region {
-        Region {
-            name: name.into(),
-            zones: vec![Zone {
-                terms: vec![Term {
-                    op: Op::Inside,
-                    body,
-                }],
-            }],
-        }
-    }
-}
-
 /// Bodies and regions: the whole Combinatorial Geometry model.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Geometry {
     /// Every body.
     pub bodies: Vec<Body>,
-    /// Every region.
+    /// Every region, of every universe.
     pub regions: Vec<Region>,
+    /// The universes other regions fill ([`crate::Fill`]), by index; the
+    /// root (index 0, the model itself) need not be listed: an empty list
+    /// means a model of one universe.
+    pub universes: Vec<Universe>,
 }
 
 /// A transform that a body cannot take.

@@ -156,21 +156,19 @@ fn figure1_like() -> Scene {
             vec![0.45, -0.2, -1.4, 0.0, 0.0, 2.8, 0.6],
         ),
     ];
-    s.geometry.regions.push(Region {
-        name: "D".into(),
-        zones: vec![Zone {
-            terms: vec![
-                Term {
-                    op: Op::Inside,
-                    body: 0,
-                },
-                Term {
-                    op: Op::Outside,
-                    body: 1,
-                },
-            ],
-        }],
-    });
+    s.geometry.regions.push(Region::new(
+        "D",
+        vec![Zone::new(vec![
+            Term {
+                op: Op::Inside,
+                body: 0,
+            },
+            Term {
+                op: Op::Outside,
+                body: 1,
+            },
+        ])],
+    ));
     props.push(RegionProps::default());
     s.regions = props;
     s.camera = Some(Camera {
@@ -277,10 +275,9 @@ fn crowded() -> Scene {
                         body: b + 1,
                     });
                 }
-                s.geometry.regions.push(Region {
-                    name: format!("r{b}"),
-                    zones: vec![Zone { terms }],
-                });
+                s.geometry
+                    .regions
+                    .push(Region::new(format!("r{b}"), vec![Zone::new(terms)]));
                 props.push(RegionProps::default());
             }
         }

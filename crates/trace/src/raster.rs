@@ -221,10 +221,8 @@ mod tests {
                     body: g.bodies.len() - 1,
                 });
             }
-            g.regions.push(Region {
-                name: format!("r{i}"),
-                zones: vec![Zone { terms }],
-            });
+            g.regions
+                .push(Region::new(format!("r{i}"), vec![Zone::new(terms)]));
         }
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         assert_eq!(p.raster_proxy_count(), g.regions.len());

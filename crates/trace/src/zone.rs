@@ -318,10 +318,8 @@ mod tests {
                     body: rnd(8),
                 });
             }
-            g.regions.push(Region {
-                name: format!("r{i}"),
-                zones: vec![Zone { terms }],
-            });
+            g.regions
+                .push(Region::new(format!("r{i}"), vec![Zone::new(terms)]));
         }
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         let mut lists = p.clone();

@@ -11,18 +11,18 @@ use sv_scene::{Light, LightKind};
 
 /// A region of one zone intersecting `bodies`.
 fn region(name: &str, bodies: &[usize]) -> Region {
-    Region {
-        name: name.into(),
-        zones: vec![Zone {
-            terms: bodies
+    Region::new(
+        name,
+        vec![Zone::new(
+            bodies
                 .iter()
                 .map(|&b| Term {
                     op: Op::Inside,
                     body: b,
                 })
                 .collect(),
-        }],
-    }
+        )],
+    )
 }
 
 /// The test scenes' lights: SUN shining along `sun_dir`, and LAMP, a point

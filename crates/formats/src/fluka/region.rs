@@ -339,11 +339,7 @@ impl Expander {
 
     /// The union of zones equivalent to a parsed expression.
     pub(crate) fn zones(&mut self, u: &[Vec<Factor>]) -> Result<Vec<Zone>, TooBig> {
-        Ok(self
-            .union(u)?
-            .into_iter()
-            .map(|terms| Zone { terms })
-            .collect())
+        Ok(self.union(u)?.into_iter().map(Zone::new).collect())
     }
 }
 
@@ -365,7 +361,7 @@ mod tests {
             .zones(&u)
             .map_err(|_| "too big".to_string())?
             .iter()
-            .map(|z| z.expression(|b| names[b]))
+            .map(|z| z.expression(&|b| names[b]))
             .collect())
     }
 

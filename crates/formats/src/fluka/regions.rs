@@ -154,7 +154,7 @@ impl Reader {
         } else {
             Vec::new()
         };
-        self.regions.push(Region { name, zones });
+        self.regions.push(Region::new(name, zones));
     }
 
     pub(super) fn lattice(&mut self, i: usize, c: &Card) {

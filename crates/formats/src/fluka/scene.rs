@@ -28,6 +28,7 @@ impl Reader {
             geometry: Geometry {
                 bodies: std::mem::take(&mut self.bodies),
                 regions: std::mem::take(&mut self.regions),
+                ..Geometry::default()
             },
             regions: props,
             ..Scene::default()

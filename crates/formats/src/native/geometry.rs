@@ -92,13 +92,7 @@ pub(super) fn region(
             return Err(line.error(&name, format!("region `{}` is defined twice", name.text)));
         }
         let zones = zones(line, &name, scene, names)?;
-        scene.push_region(
-            Region {
-                name: name.text.to_string(),
-                zones,
-            },
-            RegionProps::default(),
-        )
+        scene.push_region(Region::new(name.text, zones), RegionProps::default())
     } else {
         match existing {
             Some(i) => i,

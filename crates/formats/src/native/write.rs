@@ -41,7 +41,7 @@ pub fn write(scene: &Scene) -> String {
         let zones: Vec<String> = region
             .zones
             .iter()
-            .map(|z| z.expression(|b| &names[b]))
+            .map(|z| z.expression(&|b| &names[b]))
             .collect();
         out.push_str(&format!(
             "REGION {} = {}",

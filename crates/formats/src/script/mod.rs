@@ -70,8 +70,8 @@
 //! use sv_scene::{RegionProps, Scene};
 //! let mut scene = Scene::default();
 //! scene.geometry.bodies.push(Body::new("1", BodyKind::Sph, vec![0.0, 0.0, 5.0, 1.0]));
-//! let zone = Zone { terms: vec![Term { op: Op::Inside, body: 0 }] };
-//! scene.push_region(Region { name: "fuselage".into(), zones: vec![zone] }, RegionProps::default());
+//! let zone = Zone::new(vec![Term { op: Op::Inside, body: 0 }]);
+//! scene.push_region(Region::new("fuselage", vec![zone]), RegionProps::default());
 //!
 //! let text = "SCENE \"helicopter.sv\"\nOBJECT HELICOPTER REGIONS fuselage\n\
 //!             AXIS 1 POINT (2,0,0) DIR (0,0,1)\nMOVE HELICOPTER (3,0,-1)\n\

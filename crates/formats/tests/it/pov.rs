@@ -31,9 +31,7 @@ fn sun() -> Light {
 }
 
 fn zone(terms: &[(Op, usize)]) -> Zone {
-    Zone {
-        terms: terms.iter().map(|&(op, body)| Term { op, body }).collect(),
-    }
+    Zone::new(terms.iter().map(|&(op, body)| Term { op, body }).collect())
 }
 
 /// A scene with the given bodies, one region per entry of `regions`.
@@ -46,10 +44,7 @@ fn scene(bodies: Vec<Body>, regions: Vec<Vec<Vec<(Op, usize)>>>) -> Scene {
     s.geometry.bodies = bodies;
     for (i, zones) in regions.into_iter().enumerate() {
         s.push_region(
-            Region {
-                name: format!("r{i}"),
-                zones: zones.iter().map(|z| zone(z)).collect(),
-            },
+            Region::new(format!("r{i}"), zones.iter().map(|z| zone(z)).collect()),
             RegionProps {
                 k: 0.85,
                 ..RegionProps::default()
@@ -656,10 +651,7 @@ fn all_bodies() -> Scene {
             s.geometry.bodies.push(b);
         }
         s.push_region(
-            Region {
-                name: format!("r{n}"),
-                zones: vec![Zone { terms }],
-            },
+            Region::new(format!("r{n}"), vec![Zone::new(terms)]),
             RegionProps {
                 k: 0.85,
                 colour: Some([0.9, 0.8 - 0.02 * n as f64, 0.5 + 0.015 * n as f64]),

@@ -54,6 +54,7 @@ fn invalid_parameters_name_the_body_and_rule() {
         let g = Geometry {
             bodies: vec![Body::new("bad", *kind, params.to_vec())],
             regions: vec![Region::of_body("r", 0)],
+            ..Geometry::default()
         };
         let err = Prepared::new(&g, &PrepareOptions::default()).unwrap_err();
         assert_eq!(err.to_string(), *want);
@@ -71,6 +72,7 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
     let g = Geometry {
         bodies: vec![Body::new("10", BodyKind::Arb8, p.to_vec())],
         regions: vec![Region::of_body("r", 0)],
+        ..Geometry::default()
     };
     let (prep, warnings) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     assert!(!warnings.is_empty());

@@ -13,15 +13,13 @@ fn term(op: char, body: usize) -> Term {
 }
 
 fn region(name: &str, zones: &[&[(char, usize)]]) -> Region {
-    Region {
-        name: name.into(),
-        zones: zones
+    Region::new(
+        name,
+        zones
             .iter()
-            .map(|z| Zone {
-                terms: z.iter().map(|&(o, b)| term(o, b)).collect(),
-            })
+            .map(|z| Zone::new(z.iter().map(|&(o, b)| term(o, b)).collect()))
             .collect(),
-    }
+    )
 }
 
 /// Figure 1: sphere (body 0) and cylinder (body 1), the five regions.
@@ -42,6 +40,7 @@ fn figure1() -> Geometry {
             region("E", &[&[('+', 1), ('-', 0)]]),
             region("F", &[&[('+', 0), ('+', 1)]]),
         ],
+        ..Geometry::default()
     }
 }
 
@@ -138,6 +137,7 @@ fn figure3() -> Geometry {
             region("C", &[&[('+', 3), ('-', 0), ('-', 1)]]),
             region("S", &[&[('+', 0), ('-', 1)]]),
         ],
+        ..Geometry::default()
     }
 }
 
@@ -198,6 +198,7 @@ fn body_subtracted_flush_with_a_face_leaves_no_speckles() {
             region("a", &[&[('+', 0), ('-', 1)]]),
             region("top", &[&[('+', 0), ('-', 2)]]),
         ],
+        ..Geometry::default()
     };
     let (p, _) = Prepared::new(
         &g,
@@ -246,6 +247,7 @@ fn or_zones_union_and_region_names_resolve() {
             Body::new("3", BodyKind::Rpp, vec![3.0, 4.0, -1.0, 1.0, -1.0, 1.0]),
         ],
         regions: vec![region("u", &[&[('+', 0), ('-', 1)], &[('+', 2)]])],
+        ..Geometry::default()
     };
     let (p, _) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     let mut s = Scratch::new(&p);
@@ -282,6 +284,7 @@ fn bodies_keep_their_indices_though_stored_in_space_order() {
             .iter()
             .map(|&b| region(&format!("r{b}"), &[&[('+', b)]]))
             .collect(),
+        ..Geometry::default()
     };
     let (p, _) = Prepared::new(&g, &PrepareOptions::default()).unwrap();
     let mut s = Scratch::new(&p);

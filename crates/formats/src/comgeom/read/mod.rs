@@ -366,18 +366,12 @@ impl<'a> Reader<'a> {
             .collect();
         scene.geometry = Geometry {
             bodies,
-            regions: Vec::new(),
+            ..Geometry::default()
         };
         for ((raw, zones), mut p) in regions.iter().zip(zones).zip(props) {
             p.transparent = p.air != 0;
-            let zones = zones.into_iter().map(|terms| Zone { terms }).collect();
-            scene.push_region(
-                Region {
-                    name: raw.number.to_string(),
-                    zones,
-                },
-                p,
-            );
+            let zones = zones.into_iter().map(Zone::new).collect();
+            scene.push_region(Region::new(raw.number.to_string(), zones), p);
         }
         Some(scene)
     }

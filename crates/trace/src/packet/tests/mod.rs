@@ -164,18 +164,19 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
     }
     let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
     let (low, high, slab, slab2, ring, tgc) = (n + 6, n + 7, n + 8, n + 9, n + 10, n + 11);
-    let zone = |plus: &[usize], minus: &[usize]| Zone {
-        terms: plus
-            .iter()
-            .map(|&body| Term {
-                op: Op::Inside,
-                body,
-            })
-            .chain(minus.iter().map(|&body| Term {
-                op: Op::Outside,
-                body,
-            }))
-            .collect(),
+    let zone = |plus: &[usize], minus: &[usize]| {
+        Zone::new(
+            plus.iter()
+                .map(|&body| Term {
+                    op: Op::Inside,
+                    body,
+                })
+                .chain(minus.iter().map(|&body| Term {
+                    op: Op::Outside,
+                    body,
+                }))
+                .collect(),
+        )
     };
     let made = [
         zone(&[cube, flush], &[]),
@@ -205,10 +206,7 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
     let count = made.len();
     for (r, z) in made.into_iter().enumerate() {
         if only.is_none_or(|i| i % count == r) {
-            g.regions.push(Region {
-                name: format!("m{r}"),
-                zones: vec![z],
-            });
+            g.regions.push(Region::new(format!("m{r}"), vec![z]));
         }
     }
     if made_only {
@@ -226,10 +224,7 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
                 zone(&plus, &minus)
             })
             .collect();
-        g.regions.push(Region {
-            name: format!("r{r}"),
-            zones,
-        });
+        g.regions.push(Region::new(format!("r{r}"), zones));
     }
     g
 }
@@ -328,21 +323,19 @@ pub(super) fn hollows() -> Geometry {
         g.bodies.push(Body::new(format!("h{i}"), kind, params));
     }
     for (r, (plus, minus)) in [(0, 1), (2, 3), (4, 5)].into_iter().enumerate() {
-        g.regions.push(Region {
-            name: format!("hollow{r}"),
-            zones: vec![Zone {
-                terms: vec![
-                    Term {
-                        op: Op::Inside,
-                        body: plus,
-                    },
-                    Term {
-                        op: Op::Outside,
-                        body: minus,
-                    },
-                ],
-            }],
-        });
+        g.regions.push(Region::new(
+            format!("hollow{r}"),
+            vec![Zone::new(vec![
+                Term {
+                    op: Op::Inside,
+                    body: plus,
+                },
+                Term {
+                    op: Op::Outside,
+                    body: minus,
+                },
+            ])],
+        ));
     }
     g
 }

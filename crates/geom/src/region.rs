@@ -252,13 +252,13 @@ impl Lattice {
     pub fn element(&self, index: [i32; 3]) -> Option<usize> {
         let mut flat = 0usize;
         let mut stride = 1usize;
-        for a in 0..3 {
-            let d = i64::from(index[a]) - i64::from(self.lowest[a]);
-            if d < 0 || d >= i64::from(self.counts[a]) {
+        for ((&i, &lowest), &count) in index.iter().zip(&self.lowest).zip(&self.counts) {
+            let d = i64::from(i) - i64::from(lowest);
+            if d < 0 || d >= i64::from(count) {
                 return self.outer;
             }
             flat += d as usize * stride;
-            stride *= self.counts[a] as usize;
+            stride *= count as usize;
         }
         self.elements.get(flat).copied().flatten()
     }

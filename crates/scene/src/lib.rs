@@ -11,6 +11,6 @@ mod scene;
 
 pub use camera::{Camera, Lens};
 pub use light::{Light, LightKind};
-pub use scene::{Background, RegionProps, Scene, Units};
+pub use scene::{Background, Component, Material, RegionProps, Scene, Units};
 pub use sv_geom as geom;
 pub use sv_math::RayGen;

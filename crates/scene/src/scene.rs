@@ -85,6 +85,19 @@ pub struct RegionProps {
     pub los: i64,
     /// Density in g/cm³, when known (for masses).
     pub density: Option<f64>,
+    /// Atom density in atoms per barn-centimetre, when the input gives it
+    /// so (MCNP's positive cell densities).
+    pub atom_density: Option<f64>,
+    /// The material by name as the input names it (FLUKA's ASSIGNMA
+    /// `WATER`, MCNP's `m12`, OpenMC's material name or id), and its
+    /// index into [`Scene::materials`] when the input describes it.
+    pub material_name: Option<String>,
+    /// Index into [`Scene::materials`].
+    pub material_index: Option<usize>,
+    /// Beyond the model: a FLUKA black hole, an MCNP cell of importance
+    /// zero, OpenMC's vacuum boundary. Never drawn or framed; for checks,
+    /// the outside of the model's universe.
+    pub outside: bool,
     /// Free-text description (the deck's comment column).
     pub description: String,
 }
@@ -100,9 +113,40 @@ impl Default for RegionProps {
             material: 0,
             los: 100,
             density: None,
+            atom_density: None,
+            material_name: None,
+            material_index: None,
+            outside: false,
             description: String::new(),
         }
     }
+}
+
+/// A material as a transport code describes it: what a region is made of,
+/// for listing, colouring by material and comparing two models.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Material {
+    /// Its name or number as the input gives it (`m12`, `WATER`, `UO2`).
+    pub name: String,
+    /// Density in g/cm³, when the material itself carries one.
+    pub density: Option<f64>,
+    /// Atom density in atoms per barn-centimetre, when given so.
+    pub atom_density: Option<f64>,
+    /// What it is made of.
+    pub components: Vec<Component>,
+}
+
+/// One nuclide or element of a [`Material`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Component {
+    /// The nuclide as `Z`, `A` (0 for a natural element) and metastable
+    /// state, e.g. U-235 is (92, 235, 0).
+    pub zam: (u32, u32, u32),
+    /// Its fraction (atom or weight, see `by_weight`), as given (not
+    /// normalised).
+    pub fraction: f64,
+    /// True for a weight fraction, false for an atom fraction.
+    pub by_weight: bool,
 }
 
 /// A complete scene: geometry, camera, lights and picture settings.
@@ -116,6 +160,8 @@ pub struct Scene {
     pub geometry: Geometry,
     /// One entry per region, same order as `geometry.regions`.
     pub regions: Vec<RegionProps>,
+    /// The materials the regions refer to ([`RegionProps::material_index`]).
+    pub materials: Vec<Material>,
     /// Camera, or `None` to frame the model automatically.
     pub camera: Option<Camera>,
     /// Light sources; empty means a default light over the viewer's shoulder.
@@ -140,6 +186,7 @@ impl Default for Scene {
             units: Units::default(),
             geometry: Geometry::default(),
             regions: Vec::new(),
+            materials: Vec::new(),
             camera: None,
             lights: Vec::new(),
             ambient: 0.15,

@@ -1,7 +1,7 @@
 //! The body list of a FLUKA geometry: bodies, which may continue over
 //! several lines, and the `$start_…`/`$end_…` directives that move them.
 
-use super::{card, clean, is_name, rotdefi, tokens, Reader, BODY_CODES};
+use super::{card, clean, is_name, tokens, Reader, BODY_CODES};
 use crate::did_you_mean;
 use sv_geom::{Body, BodyKind};
 use sv_math::{DAffine3, DVec3};
@@ -35,8 +35,9 @@ impl DirKind {
     }
 }
 
+/// An open `$start_…` directive.
 #[derive(Clone, Debug)]
-struct Directive {
+pub(super) struct Directive {
     kind: DirKind,
     factor: f64,
     shift: DVec3,
@@ -46,16 +47,19 @@ struct Directive {
     len: usize,
 }
 
-struct PendingBody {
-    /// (line index, column, text) of each word.
-    words: Vec<(usize, usize, String)>,
+/// A body whose words are being collected.
+pub(super) struct PendingBody {
+    /// (line index, column, text) of each word: code, name, values.
+    pub words: Vec<(usize, usize, String)>,
+    /// Whether the name is a fixed-format body number.
+    pub numbered: bool,
 }
 
 fn starts_numeric(s: &str) -> bool {
     s.starts_with(|c: char| c.is_ascii_digit() || c == '+' || c == '-' || c == '.')
 }
 
-fn body_code(s: &str) -> Option<BodyKind> {
+pub(super) fn body_code(s: &str) -> Option<BodyKind> {
     BODY_CODES
         .iter()
         .find(|(c, _)| c.eq_ignore_ascii_case(s))
@@ -174,6 +178,7 @@ impl Reader {
                 }
                 pending = Some(PendingBody {
                     words: words.into_iter().map(|(c, w)| (k, c, w)).collect(),
+                    numbered: false,
                 });
             }
         }
@@ -181,6 +186,12 @@ impl Reader {
             // END is missing: the last body still counts.
             self.finish_body(&p, &stack);
         }
+        self.unclosed(stack);
+        result
+    }
+
+    /// Report the directives left open at the end of the bodies.
+    pub(super) fn unclosed(&mut self, stack: Vec<Directive>) {
         for d in stack {
             let name = format!("$start_{}", d.kind.name());
             self.err(d.line, d.col, d.len, format!("`{name}` is never closed"))
@@ -189,13 +200,17 @@ impl Reader {
                 d.kind.name()
             ));
         }
-        result
     }
 
     /// A `$start_…` or `$end_…` line: opens a directive on `stack` (even a
     /// faulty one, so that its `$end_…` matches) or closes the innermost of
     /// its kind.
-    fn directive(&mut self, line: usize, words: &[(usize, String)], stack: &mut Vec<Directive>) {
+    pub(super) fn directive(
+        &mut self,
+        line: usize,
+        words: &[(usize, String)],
+        stack: &mut Vec<Directive>,
+    ) {
         let (col, word) = (words[0].0, words[0].1.as_str());
         let len = word.chars().count();
         let lower = word.to_ascii_lowercase();
@@ -225,12 +240,14 @@ impl Reader {
             (true, _) => 1,
         };
         if let Some((extra_col, extra)) = args.get(want) {
-            self.err(
-                line,
-                *extra_col,
-                extra.chars().count(),
-                format!("unexpected `{extra}` after `{word}`"),
-            );
+            let len = extra.chars().count();
+            let message = format!("unexpected `{extra}` after `{word}`");
+            if start {
+                self.err(line, *extra_col, len, message);
+            } else {
+                // FLUKA reads no argument after an `$end_…` and goes on.
+                self.warn(line, *extra_col, len, format!("{message}: ignored"));
+            }
         }
         if !start {
             match stack.iter().rposition(|d| d.kind == kind) {
@@ -314,21 +331,10 @@ impl Reader {
     /// name or index; `-` for its inverse), or the identity when there is
     /// none.
     fn transform(&mut self, line: usize, (col, text): &(usize, String)) -> DAffine3 {
-        let (inverse, name) = match text.strip_prefix('-') {
-            Some(n) => (true, n),
-            None => (false, text.as_str()),
-        };
-        let key = if self.rot.contains_key(name) {
-            Some(name.to_string())
-        } else {
-            name.parse::<i64>()
-                .ok()
-                .and_then(|i| self.rot_index.get(&i).cloned())
-        };
-        if let Some(cards) = key.and_then(|k| self.rot.get(&k)) {
-            let xf = rotdefi::compose(cards);
-            return if inverse { xf.inverse() } else { xf };
+        if let Some(xf) = self.find_transform(text) {
+            return xf;
         }
+        let name = text.trim_start_matches('-');
         let hint = self.hint_among(name, self.rot.keys());
         let e = self.err(
             line,
@@ -344,7 +350,7 @@ impl Reader {
 
     /// A body whose words are all read: checked, moved by the directives
     /// around it and added, or reported.
-    fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
+    pub(super) fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
         let (line, col, code) = &pending.words[0];
         let code_len = code.chars().count();
         let Some(kind) = self.body_kind(pending) else {
@@ -431,7 +437,8 @@ impl Reader {
             return None;
         };
         let name_len = name.chars().count();
-        if starts_numeric(name) {
+        // A fixed-format body number was checked where it was read.
+        if !pending.numbered && starts_numeric(name) {
             self.err(
                 name_line,
                 name_col,
@@ -440,7 +447,7 @@ impl Reader {
             );
             return None;
         }
-        if !is_name(name) {
+        if !pending.numbered && !is_name(name) {
             self.err(name_line, name_col, name_len, format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
             self.bad_bodies.insert(name.to_string());
             return None;

@@ -425,27 +425,28 @@ fn turned_infinite_bodies_take_their_general_forms() {
 }
 
 #[test]
-fn regions_become_unions_of_zones() {
+fn regions_keep_their_parentheses_as_groups() {
     let Some(l) = input("101_Intersection.inp") else {
         return;
     };
-    assert_eq!(
-        zones(&l, "blackhole"),
-        ["+blackhole -rpp1", "+blackhole -rpp2"]
-    );
+    assert_eq!(zones(&l, "blackhole"), ["+blackhole -(+rpp1 +rpp2)"]);
     assert_eq!(zones(&l, "intreg"), ["+rpp1 +rpp2"]);
     let l = input("102_Difference.inp").unwrap();
-    assert_eq!(
-        zones(&l, "blackhole"),
-        ["+blackhole -rpp1", "+blackhole +rpp2"]
-    );
+    assert_eq!(zones(&l, "blackhole"), ["+blackhole -(+rpp1 -rpp2)"]);
     assert_eq!(zones(&l, "subreg"), ["+rpp1 -rpp2"]);
     let l = input("103_Union.inp").unwrap();
     assert_eq!(zones(&l, "unionreg"), ["+rpp1", "+rpp2"]);
     assert_eq!(zones(&l, "blackhole"), ["+blackhole -rpp1 -rpp2"]);
-    // Three subtracted six-plane cubes: 6 × 6 × 6 zones.
+    // Three subtracted six-plane cubes: one zone, three groups of six
+    // terms (216 zones if it were expanded).
     let l = input("310_XYP_transform.inp").unwrap();
-    assert_eq!(region(&l, "blackhol").zones.len(), 216);
+    let r = region(&l, "blackhol");
+    assert_eq!(r.zones.len(), 1);
+    assert_eq!(r.zones[0].groups.len(), 3);
+    assert!(r.zones[0]
+        .groups
+        .iter()
+        .all(|g| g.zones.len() == 1 && g.zones[0].terms.len() == 6));
     let l = input("ex-geometry.inp").unwrap();
     assert_eq!(
         zones(&l, "DIP_OUT_"),
@@ -460,8 +461,8 @@ fn nested_parentheses_and_unions_inside_them() {
         "r1 5 +d -(+a | +b -(+c))\nr2 5 | +a +(+b | +c)\n       | -d\nr3 5 (+a -b) c",
     );
     let l = read_text(&text).unwrap();
-    assert_eq!(zones(&l, "r1"), ["+d -a -b", "+d -a +c"]);
-    assert_eq!(zones(&l, "r2"), ["+a +b", "+a +c", "-d"]);
+    assert_eq!(zones(&l, "r1"), ["+d -(+a | +b -c)"]);
+    assert_eq!(zones(&l, "r2"), ["+a +(+b | +c)", "-d"]);
     assert_eq!(zones(&l, "r3"), ["+a -b +c"]);
 }
 

@@ -170,14 +170,26 @@ fn lattice_ranges_cover_every_region_between() {
     )
     .replace("END\nGEOEND", "END\nLATTICE   , r1, r3, , , , , t\nGEOEND");
     let l = read_text(&text).unwrap();
-    assert_eq!(
-        l.scene.notes.last().unwrap(),
-        "LATTICE replicas are not drawn: lattice cells r1, r2, r3 are drawn as plain regions (their containers only)"
-    );
+    // No ROT-DEFI `t`: the cells are left empty, with FLUKA's rule in the hint.
+    assert!(l.scene.geometry.regions.iter().all(|r| r.fill.is_none()));
     assert_eq!(
         l.warnings[0].message,
         "LATTICE transformation `t` has no ROT-DEFI card"
     );
+    assert!(l.warnings[0].hint.as_deref().unwrap().contains(
+        "bringing any point of the lattice cell to the corresponding point of the basic unit"
+    ));
+    let defined = format!("{text}ROT-DEFI  , 0, 0, 0, 10, 0, 0, t\n");
+    let l = read_text(&defined).unwrap();
+    let filled: Vec<&str> = l
+        .scene
+        .geometry
+        .regions
+        .iter()
+        .filter(|r| r.fill.is_some())
+        .map(|r| r.name.as_str())
+        .collect();
+    assert_eq!(filled, ["r1", "r2", "r3"]);
 }
 
 #[test]

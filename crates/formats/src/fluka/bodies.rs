@@ -7,7 +7,84 @@ use sv_geom::{Body, BodyKind};
 use sv_math::{DAffine3, DVec3};
 
 /// FLUKA body types this reader knows of but does not read.
-const UNSUPPORTED_CODES: [&str; 4] = ["PYX", "PYY", "PYZ", "TET"];
+const UNSUPPORTED_CODES: [&str; 1] = ["TET"];
+
+/// FLUKA's pyramids along x, y and z, and the names of their 7 values:
+/// the centre of the major base, the half-sides of the major base (along
+/// the next two axes in x, y, z order), the height (its sign points from
+/// the major base to the minor one) and the ratio of the minor base's
+/// sides to the major base's (0: not truncated).
+const PYRAMIDS: [&str; 3] = ["PYX", "PYY", "PYZ"];
+const PYRAMID_VALUES: [&str; 7] = ["Vx", "Vy", "Vz", "L1", "L2", "H", "R"];
+
+/// What a body's values are: those of a body type, or a pyramid's.
+#[derive(Clone, Copy, Debug)]
+enum ValuesOf {
+    Kind(BodyKind),
+    /// A PYX, PYY or PYZ: the axis (0, 1, 2).
+    Pyramid(usize),
+}
+
+impl ValuesOf {
+    fn count(self) -> usize {
+        match self {
+            ValuesOf::Kind(k) => k.info().value_count(),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES.len(),
+        }
+    }
+
+    fn name(self, i: usize) -> String {
+        match self {
+            ValuesOf::Kind(k) => value_name(k, i),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES[i].to_string(),
+        }
+    }
+
+    fn layout(self) -> String {
+        match self {
+            ValuesOf::Kind(k) => layout(k),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES.join(" "),
+        }
+    }
+}
+
+/// A pyramid along axis `axis` as the polyhedron of its corners: an ARB8
+/// (truncated) or an ARB5 (full, with its apex).
+fn pyramid(axis: usize, v: &[f64]) -> Result<(BodyKind, Vec<f64>), String> {
+    let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+    let (half_u, half_w, height, ratio) = (v[3], v[4], v[5], v[6]);
+    if !(half_u > 0.0 && half_w > 0.0) {
+        return Err("the half-sides of its major base must be positive".into());
+    }
+    if height == 0.0 {
+        return Err("its height is zero".into());
+    }
+    if !(0.0..1.0).contains(&ratio) {
+        return Err(format!(
+            "its ratio R = {ratio} must be at least 0 and below 1"
+        ));
+    }
+    let corner = |su: f64, sw: f64, scale: f64, up: f64| {
+        let mut p = [v[0], v[1], v[2]];
+        p[u] += su * half_u * scale;
+        p[w] += sw * half_w * scale;
+        p[axis] += up;
+        p
+    };
+    let square = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let mut points: Vec<[f64; 3]> = square
+        .iter()
+        .map(|&(a, b)| corner(a, b, 1.0, 0.0))
+        .collect();
+    let kind = if ratio == 0.0 {
+        points.push(corner(0.0, 0.0, 0.0, height));
+        BodyKind::Arb5
+    } else {
+        points.extend(square.iter().map(|&(a, b)| corner(a, b, ratio, height)));
+        BodyKind::Arb8
+    };
+    Ok((kind, points.concat()))
+}
 
 const DIRECTIVES: [&str; 6] = [
     "$start_translat",
@@ -59,7 +136,15 @@ fn starts_numeric(s: &str) -> bool {
     s.starts_with(|c: char| c.is_ascii_digit() || c == '+' || c == '-' || c == '.')
 }
 
-pub(super) fn body_code(s: &str) -> Option<BodyKind> {
+/// How many values a body of code `s` takes, when the code is known.
+pub(super) fn value_count(s: &str) -> Option<usize> {
+    if PYRAMIDS.iter().any(|p| p.eq_ignore_ascii_case(s)) {
+        return Some(PYRAMID_VALUES.len());
+    }
+    body_code(s).map(|k| k.info().value_count())
+}
+
+fn body_code(s: &str) -> Option<BodyKind> {
     BODY_CODES
         .iter()
         .find(|(c, _)| c.eq_ignore_ascii_case(s))
@@ -353,8 +438,12 @@ impl Reader {
     pub(super) fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
         let (line, col, code) = &pending.words[0];
         let code_len = code.chars().count();
-        let Some(kind) = self.body_kind(pending) else {
-            return;
+        let values_of = match PYRAMIDS.iter().position(|p| p.eq_ignore_ascii_case(code)) {
+            Some(axis) => ValuesOf::Pyramid(axis),
+            None => match self.body_kind(pending) {
+                Some(kind) => ValuesOf::Kind(kind),
+                None => return,
+            },
         };
         let code = code.to_ascii_uppercase();
         let Some(name) = self.body_name(pending, &code) else {
@@ -364,9 +453,16 @@ impl Reader {
             reader.err(*line, *col, code_len, msg);
             reader.bad_bodies.insert(name.to_string());
         };
-        let Some(params) = self.body_values(pending, kind, &code, name) else {
+        let Some(params) = self.body_values(pending, values_of, &code, name) else {
             self.bad_bodies.insert(name.to_string());
             return;
+        };
+        let (kind, params) = match values_of {
+            ValuesOf::Kind(kind) => (kind, params),
+            ValuesOf::Pyramid(axis) => match pyramid(axis, &params) {
+                Ok(made) => made,
+                Err(e) => return at(self, format!("{code} `{name}`: {e}")),
+            },
         };
         let mut body = Body::new(name, kind, params);
         if !stack.is_empty() {
@@ -471,13 +567,13 @@ impl Reader {
     fn body_values(
         &mut self,
         pending: &PendingBody,
-        kind: BodyKind,
+        values_of: ValuesOf,
         code: &str,
         name: &str,
     ) -> Option<Vec<f64>> {
         let (line, col) = (pending.words[0].0, pending.words[0].1);
         let values = &pending.words[2..];
-        let want = kind.info().value_count();
+        let want = values_of.count();
         let mut ok = true;
         if values.len() != want {
             self.err(
@@ -489,7 +585,7 @@ impl Reader {
                     values.len()
                 ),
             )
-            .hint = Some(format!("{code} values: {}", layout(kind)));
+            .hint = Some(format!("{code} values: {}", values_of.layout()));
             ok = false;
         }
         let mut params = Vec::with_capacity(want);
@@ -497,7 +593,7 @@ impl Reader {
             match card::number(text) {
                 Some(v) => params.push(v),
                 None => {
-                    let what = value_name(kind, i);
+                    let what = values_of.name(i);
                     self.err(
                         *value_line,
                         *value_col,

@@ -137,8 +137,16 @@ impl Reader {
                 });
             } else if pending.is_none() {
                 let col = text.chars().take_while(|c| c.is_whitespace()).count() + 1;
-                self.err(k, col, trimmed.chars().count().min(10), "a body continuation line with no body before it")
-                    .hint = Some("in fixed format a body starts with its code in columns 3-5 and its number in 6-10".into());
+                let len = trimmed.chars().count().min(10);
+                let hint = "in fixed format a body starts with its code in columns 3-5 \
+                            and its number in 6-10";
+                self.err(
+                    k,
+                    col,
+                    len,
+                    "a body continuation line with no body before it",
+                )
+                .hint = Some(hint.into());
                 continue;
             }
             let p = pending.as_mut().expect("a body is being read");
@@ -217,8 +225,16 @@ impl Reader {
             }
             let Some(r) = cur.as_mut() else {
                 let col = text.chars().take_while(|c| c.is_whitespace()).count() + 1;
-                self.err(k, col, trimmed.chars().count().min(10), "a region continuation line with no region before it")
-                    .hint = Some("in fixed format a region starts with a label in columns 3-5 and its NAZ in 6-10".into());
+                let len = trimmed.chars().count().min(10);
+                let hint = "in fixed format a region starts with a label in columns 3-5 \
+                            and its NAZ in 6-10";
+                self.err(
+                    k,
+                    col,
+                    len,
+                    "a region continuation line with no region before it",
+                )
+                .hint = Some(hint.into());
                 continue;
             };
             let number = self.regions.len() + 1;
@@ -229,7 +245,12 @@ impl Reader {
                 if (op == "+" || op == "-") && !body.is_empty() && !body.starts_with(['+', '-']) {
                     // The sign slipped into the operator field: the number
                     // is meant, as it would be in free format.
-                    self.warn(k, at + 1, 2, format!("the sign `{op}` stands in the operator field (columns {}-{}), not with the body number", at + 1, at + 2));
+                    let (from, to) = (at + 1, at + 2);
+                    let message = format!(
+                        "the sign `{op}` stands in the operator field (columns {from}-{to}), \
+                         not with the body number"
+                    );
+                    self.warn(k, from, 2, message);
                     body = format!("{op}{body}");
                     op.clear();
                 }
@@ -317,8 +338,8 @@ impl Reader {
     /// count are dropped), then it is checked and added as a free-format
     /// body is.
     fn finish_fixed_body(&mut self, mut p: PendingBody, stack: &[Directive], decimals: i32) {
-        if let Some(kind) = super::bodies::body_code(&p.words[0].2) {
-            let want = 2 + kind.info().value_count();
+        if let Some(count) = super::bodies::value_count(&p.words[0].2) {
+            let want = 2 + count;
             if p.words.len() > want {
                 let extra: Vec<_> = p.words.drain(want..).filter(|w| !w.2.is_empty()).collect();
                 if let Some((line, col, text)) = extra.first() {
@@ -338,7 +359,12 @@ impl Reader {
             } else if let Some((v, implied)) = fortran_real(text, decimals) {
                 if implied {
                     let written = std::mem::replace(text, format!("{v:e}"));
-                    self.warn_hinted(*line, *col, written.chars().count(), format!("`{written}` has no decimal point: FLUKA's fixed format reads it as {v}"), Some("write the decimal point: FLUKA requires it in body values".into()));
+                    let message = format!(
+                        "`{written}` has no decimal point: FLUKA's fixed format reads it as {v}"
+                    );
+                    let hint = "write the decimal point: FLUKA requires it in body values";
+                    let len = written.chars().count();
+                    self.warn_hinted(*line, *col, len, message, Some(hint.into()));
                 }
             }
         }

@@ -85,8 +85,10 @@ impl Reader {
             begin.named = Some(false);
         } else if let Some(f) = &c.sdum {
             let (col, len, text) = (f.col, f.len(), f.text.clone());
-            self.err(i, col, len, format!("GEOBEGIN SDUM `{text}` names no combinatorial geometry"))
-                .hint = Some("FLUKA reads COMBNAME (names, free format) or COMBINAT (numbers, fixed format; the default)".into());
+            let hint = "FLUKA reads COMBNAME (names, free format) or COMBINAT \
+                        (numbers, fixed format; the default)";
+            let message = format!("GEOBEGIN SDUM `{text}` names no combinatorial geometry");
+            self.err(i, col, len, message).hint = Some(hint.into());
         }
         begin
     }

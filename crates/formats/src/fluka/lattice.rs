@@ -15,7 +15,9 @@ use sv_math::DAffine3;
 
 /// What FLUKA's manual asks of a lattice's transformation (the hint when
 /// one is missing).
-const LATTICE_NEEDS: &str = "a ROT-DEFI card must give each lattice the transformation bringing any point of the lattice cell to the corresponding point of the basic unit (the prototype); name it in the LATTICE SDUM";
+const LATTICE_NEEDS: &str = "a ROT-DEFI card must give each lattice the transformation \
+    bringing any point of the lattice cell to the corresponding point of the basic unit \
+    (the prototype); name it in the LATTICE SDUM";
 
 /// A lattice cell: a container region and the transformation from the
 /// cell to the prototype, when one is defined.
@@ -91,7 +93,12 @@ impl Reader {
     /// The transformation a LATTICE card names (reported when missing).
     fn lattice_transform(&mut self, i: usize, c: &Card) -> Option<DAffine3> {
         let Some(t) = &c.sdum else {
-            self.warn_hinted(i, 1, 7, "LATTICE names no transformation: its cells are drawn empty", Some(format!("{LATTICE_NEEDS} (FLUKA otherwise calls the user routine LATTIC, which is not read)")));
+            let hint = format!(
+                "{LATTICE_NEEDS} (FLUKA otherwise calls the user routine LATTIC, \
+                 which is not read)"
+            );
+            let message = "LATTICE names no transformation: its cells are drawn empty";
+            self.warn_hinted(i, 1, 7, message, Some(hint));
             return None;
         };
         let found = self

@@ -233,7 +233,8 @@ impl Output {
                 format!("cannot read the geometry file `{}`: {e}", path.display()),
             );
             self.errors.push(d.with_hint(
-                "GEOBEGIN WHAT(3) names a logical unit: the geometry is read from the file named on the next card, beside the input",
+                "GEOBEGIN WHAT(3) names a logical unit: the geometry is read from the file \
+                 named on the next card, beside the input",
             ));
             return None;
         }

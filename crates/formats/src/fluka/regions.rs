@@ -47,7 +47,11 @@ impl Reader {
                     t.col += shift;
                 }
                 if !is_name(first) {
-                    self.err(k, col0, first.chars().count(), format!("region name `{first}` must start with a letter and hold only letters, digits and `_`"));
+                    let message = format!(
+                        "region name `{first}` must start with a letter and hold only letters, \
+                         digits and `_`"
+                    );
+                    self.err(k, col0, first.chars().count(), message);
                 }
                 cur = Some(Pending {
                     line: k,
@@ -58,7 +62,9 @@ impl Reader {
             } else if let Some(p) = &mut cur {
                 region::tokenize(&text, k, &mut p.toks);
             } else if first.starts_with(['+', '-', '|', '(', ')']) {
-                self.err(k, col0, 1, "region expression outside a region: expected a region name and its NAZ number first");
+                let message = "region expression outside a region: expected a region name \
+                               and its NAZ number first";
+                self.err(k, col0, 1, message);
             } else {
                 self.err(
                     k,
@@ -116,7 +122,10 @@ impl Reader {
             // A name opening a line may be a region whose NAZ is missing.
             let opens_line = !toks.iter().any(|o| o.line == t.line && o.col < t.col);
             let hint = if opens_line && t.line != line && super::is_name(body_name) {
-                Some(format!("a region starts with its name and NAZ number: if `{body_name}` starts one, give its NAZ after the name"))
+                Some(format!(
+                    "a region starts with its name and NAZ number: if `{body_name}` starts \
+                     one, give its NAZ after the name"
+                ))
             } else {
                 self.hint_among(body_name, self.body_index.keys())
             };

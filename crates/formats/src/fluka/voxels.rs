@@ -139,7 +139,10 @@ fn parse_grid(bytes: &[u8]) -> Result<Grid, String> {
         .try_fold(1usize, |a, &n| a.checked_mul(n))
         .unwrap_or(usize::MAX);
     if counts.contains(&0) || total > MAX_VOXELS {
-        return Err(format!("{nx} x {ny} x {nz} voxels: each count must be positive and the total at most {MAX_VOXELS}"));
+        return Err(format!(
+            "{nx} x {ny} x {nz} voxels: each count must be positive and the total at most \
+             {MAX_VOXELS}"
+        ));
     }
     let size: Vec<f64> = (0..3).map_while(|k| real(recs[2], k)).collect();
     if size.len() < 3 || !size.iter().all(|d| d.is_finite() && *d > 0.0) {
@@ -309,7 +312,16 @@ impl Reader {
         let path: PathBuf = dir.join(&name);
         match std::fs::metadata(&path) {
             Err(_) => {
-                self.warn_hinted(k, col, len, format!("voxel file `{}` not found: the voxel structure is left out (its size is in the file)", path.display()), Some(format!("put `{name}` beside the input to draw the voxels; the body VOXEL is taken as empty and the regions VOXEL, VOXEL001… are not drawn")));
+                let message = format!(
+                    "voxel file `{}` not found: the voxel structure is left out \
+                     (its size is in the file)",
+                    path.display()
+                );
+                let hint = format!(
+                    "put `{name}` beside the input to draw the voxels; meanwhile the body \
+                     VOXEL is taken as empty and the regions VOXEL001… are not made"
+                );
+                self.warn_hinted(k, col, len, message, Some(hint));
             }
             Ok(m) if m.len() > (2 * MAX_VOXELS + 4096) as u64 => {
                 self.err(

@@ -150,3 +150,14 @@ fn comments_are_skipped() {
     let l = read_text(&text).unwrap();
     assert_eq!(zones(&l, "r"), ["+a"]);
 }
+
+#[test]
+fn nothing_after_stop_is_read() {
+    // FLUKA stops reading at STOP: later cards (even a second geometry)
+    // are notes, not input.
+    let text = geo("SPH a 0 0 0 1", "r 5 +a")
+        + "ASSIGNMA        IRON         r\nSTOP\nASSIGNMA        LEAD         r\nGEOBEGIN\nnotes\n";
+    let l = read_text(&text).unwrap();
+    assert_eq!(l.scene.regions[0].material_name.as_deref(), Some("IRON"));
+    assert!(l.warnings.is_empty());
+}

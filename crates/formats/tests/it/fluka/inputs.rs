@@ -502,3 +502,31 @@ fn ifdef_ifndef_undef() {
         .collect();
     assert_eq!(names, ["x", "y"]);
 }
+
+#[test]
+fn pyramids_become_polyhedra_of_their_corners() {
+    // The manual's example: a PYZ truncated to 0.8 of its major base, and a
+    // full PYX.
+    let l = read_text(&geo(
+        "PYZ body3 0.0 0.5 -10.0 +20.0 +40.0 50.0 0.8\nPYX apex 1 0 0 2 3 -4 0",
+        "r 5 +body3\nq 5 +apex",
+    ))
+    .unwrap();
+    let b = body(&l, "body3");
+    assert_eq!(b.kind, BodyKind::Arb8);
+    assert_close(&b.params[..3], &[-20.0, -39.5, -10.0]);
+    assert_close(&b.params[18..21], &[16.0, 32.5, 40.0]);
+    let a = body(&l, "apex");
+    assert_eq!(a.kind, BodyKind::Arb5);
+    assert_close(&a.params[..3], &[1.0, -2.0, -3.0]);
+    assert_close(&a.params[12..], &[-3.0, 0.0, 0.0]);
+    let e = errors(&geo("PYY p 0 0 0 1 1 5 1.5", "r 5 +p"));
+    assert_eq!(
+        e,
+        [(
+            5,
+            1,
+            "PYY `p`: its ratio R = 1.5 must be at least 0 and below 1".to_string()
+        )]
+    );
+}

@@ -6,6 +6,7 @@ mod features;
 mod field;
 mod fixed;
 mod inputs;
+mod render;
 mod robustness;
 
 use proptest::prelude::*;

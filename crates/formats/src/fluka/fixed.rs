@@ -98,13 +98,10 @@ impl Reader {
         let mut numbered = 0i64;
         let mut result = None;
         for k in start..end {
-            let text = clean(&self.lines[k].text).to_string();
-            let trimmed = text.trim();
-            if trimmed.is_empty() {
+            let Some((text, chars, code)) = self.fixed_line(k) else {
                 continue;
-            }
-            let chars: Vec<char> = text.chars().collect();
-            let code = field(&chars, 2, 5);
+            };
+            let trimmed = text.trim();
             if trimmed.starts_with('$') {
                 if let Some(p) = pending.take() {
                     self.finish_fixed_body(p, &stack, decimals);
@@ -136,17 +133,7 @@ impl Reader {
                     numbered: true,
                 });
             } else if pending.is_none() {
-                let col = text.chars().take_while(|c| c.is_whitespace()).count() + 1;
-                let len = trimmed.chars().count().min(10);
-                let hint = "in fixed format a body starts with its code in columns 3-5 \
-                            and its number in 6-10";
-                self.err(
-                    k,
-                    col,
-                    len,
-                    "a body continuation line with no body before it",
-                )
-                .hint = Some(hint.into());
+                self.orphan_line(k, &text, "body", "its code in columns 3-5 and its number");
                 continue;
             }
             let p = pending.as_mut().expect("a body is being read");
@@ -198,13 +185,10 @@ impl Reader {
         };
         let mut cur: Option<FixedRegion> = None;
         for k in start..end {
-            let text = clean(&self.lines[k].text).to_string();
-            let trimmed = text.trim();
-            if trimmed.is_empty() {
+            let Some((text, chars, label)) = self.fixed_line(k) else {
                 continue;
-            }
-            let chars: Vec<char> = text.chars().collect();
-            let label = field(&chars, 2, 5);
+            };
+            let trimmed = text.trim();
             if label.eq_ignore_ascii_case("END") || trimmed.eq_ignore_ascii_case("END") {
                 if let Some(r) = cur.take() {
                     self.finish_fixed_region(r);
@@ -224,17 +208,7 @@ impl Reader {
                 });
             }
             let Some(r) = cur.as_mut() else {
-                let col = text.chars().take_while(|c| c.is_whitespace()).count() + 1;
-                let len = trimmed.chars().count().min(10);
-                let hint = "in fixed format a region starts with a label in columns 3-5 \
-                            and its NAZ in 6-10";
-                self.err(
-                    k,
-                    col,
-                    len,
-                    "a region continuation line with no region before it",
-                )
-                .hint = Some(hint.into());
+                self.orphan_line(k, &text, "region", "a label in columns 3-5 and its NAZ");
                 continue;
             };
             let number = self.regions.len() + 1;
@@ -311,6 +285,29 @@ impl Reader {
             }
         }
         None
+    }
+
+    /// Line `k` without its comment, as characters, and its columns 3–5;
+    /// `None` when it is blank.
+    fn fixed_line(&self, k: usize) -> Option<(String, Vec<char>, String)> {
+        let text = clean(&self.lines[k].text).to_string();
+        if text.trim().is_empty() {
+            return None;
+        }
+        let chars: Vec<char> = text.chars().collect();
+        let code = field(&chars, 2, 5);
+        Some((text, chars, code))
+    }
+
+    /// A continuation line (columns 3–5 blank) with no body or region
+    /// (`what`) before it, which starts with `start` and a number in 6–10.
+    fn orphan_line(&mut self, k: usize, text: &str, what: &str, start: &str) {
+        let col = text.chars().take_while(|c| c.is_whitespace()).count() + 1;
+        let len = text.trim().chars().count().min(10);
+        let message = format!("a {what} continuation line with no {what} before it");
+        self.err(k, col, len, message).hint = Some(format!(
+            "in fixed format a {what} starts with {start} in 6-10"
+        ));
     }
 
     /// Add a fixed-format region, named by its number.

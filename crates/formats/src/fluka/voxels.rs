@@ -323,16 +323,14 @@ impl Reader {
                 );
                 self.warn_hinted(k, col, len, message, Some(hint));
             }
-            Ok(m) if m.len() > (2 * MAX_VOXELS + 4096) as u64 => {
-                self.err(
-                    k,
-                    col,
-                    len,
-                    format!(
-                        "voxel file `{}` is larger than {MAX_VOXELS} voxels",
-                        path.display()
-                    ),
-                );
+            Ok(m) if !m.is_file() || m.len() > (2 * MAX_VOXELS + 4096) as u64 => {
+                let what = if m.is_file() {
+                    format!("is larger than {MAX_VOXELS} voxels")
+                } else {
+                    "is not a regular file".to_string()
+                };
+                let message = format!("voxel file `{}` {what}", path.display());
+                self.err(k, col, len, message);
             }
             Ok(_) => match std::fs::read(&path)
                 .map_err(|e| e.to_string())
@@ -553,55 +551,31 @@ mod tests {
         out.extend(n);
     }
 
+    /// Values as bytes in the byte order asked for.
+    macro_rules! encoded {
+        ($values:expr, $little:expr) => {
+            $values
+                .iter()
+                .flat_map(|v| {
+                    if $little {
+                        v.to_le_bytes()
+                    } else {
+                        v.to_be_bytes()
+                    }
+                })
+                .collect::<Vec<u8>>()
+        };
+    }
+
     #[test]
     fn a_vxl_file_in_either_byte_order() {
         for little in [true, false] {
             let mut f = Vec::new();
             record(&mut f, &[b' '; 80], little);
-            let ints: Vec<u8> = [2i32, 1, 1, 1, 7]
-                .iter()
-                .flat_map(|v| {
-                    if little {
-                        v.to_le_bytes()
-                    } else {
-                        v.to_be_bytes()
-                    }
-                })
-                .collect();
-            record(&mut f, &ints, little);
-            let reals: Vec<u8> = [0.5f64, 1.0, 2.0]
-                .iter()
-                .flat_map(|v| {
-                    if little {
-                        v.to_le_bytes()
-                    } else {
-                        v.to_be_bytes()
-                    }
-                })
-                .collect();
-            record(&mut f, &reals, little);
-            let organs: Vec<u8> = [0i16, 7]
-                .iter()
-                .flat_map(|v| {
-                    if little {
-                        v.to_le_bytes()
-                    } else {
-                        v.to_be_bytes()
-                    }
-                })
-                .collect();
-            record(&mut f, &organs, little);
-            let kreg: Vec<u8> = [0i16, 0, 0, 0, 0, 0, 1]
-                .iter()
-                .flat_map(|v| {
-                    if little {
-                        v.to_le_bytes()
-                    } else {
-                        v.to_be_bytes()
-                    }
-                })
-                .collect();
-            record(&mut f, &kreg, little);
+            record(&mut f, &encoded!([2i32, 1, 1, 1, 7], little), little);
+            record(&mut f, &encoded!([0.5f64, 1.0, 2.0], little), little);
+            record(&mut f, &encoded!([0i16, 7], little), little);
+            record(&mut f, &encoded!([0i16, 0, 0, 0, 0, 0, 1], little), little);
             let g = parse_grid(&f).unwrap();
             assert_eq!(g.counts, [2, 1, 1]);
             assert_eq!(g.size, DVec3::new(0.5, 1.0, 2.0));

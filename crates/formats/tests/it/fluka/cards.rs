@@ -26,22 +26,14 @@ fn materials_and_black_holes() {
         (5, Some("BERYLLIU"))
     );
     // `ASSIGNMA BLCKHOLE bbr` names a region that does not exist.
-    let w: Vec<_> = l
-        .warnings
-        .iter()
-        .map(|w| (w.line_col(), w.message.as_str()))
-        .collect();
-    assert_eq!(w, [((18, 28), "ASSIGNMA refers to undefined region `bbr`")]);
+    assert_eq!(
+        warnings(&l),
+        [((18, 28), "ASSIGNMA refers to undefined region `bbr`")]
+    );
     // A range: ASSIGNMA , BERYLLIU, BE3, BE4 (free format).
     let l = input("manualSimpleFileFixed.inp").unwrap();
-    let d: Vec<_> = l
-        .scene
-        .regions
-        .iter()
-        .map(|p| p.description.as_str())
-        .collect();
     assert_eq!(
-        d,
+        descriptions(&l),
         [
             "material: BLCKHOLE",
             "material: VACUUM",

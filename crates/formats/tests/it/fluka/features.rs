@@ -42,13 +42,8 @@ fn text_after_an_end_directive_is_a_warning() {
         "r 5 +w -a -b",
     );
     let l = read_text(&text).unwrap();
-    let w: Vec<_> = l
-        .warnings
-        .iter()
-        .map(|w| (w.line_col(), w.message.as_str()))
-        .collect();
     assert_eq!(
-        w,
+        warnings(&l),
         [
             ((7, 15), "unexpected `now` after `$end_translat`: ignored"),
             ((10, 16), "unexpected `2.` after `$end_expansion`: ignored"),
@@ -205,15 +200,8 @@ fn voxels_are_read_from_their_file_beside_the_input() {
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
     assert_close(&body(&l, "VOXEL").params, &[1.0, 2.5, 2.0, 4.0, 3.0, 7.0]);
     assert_eq!(zones(&l, "VOID"), ["+void -VOXEL"]);
-    let names: Vec<&str> = l
-        .scene
-        .geometry
-        .regions
-        .iter()
-        .map(|r| r.name.as_str())
-        .collect();
     assert_eq!(
-        names,
+        region_names(&l),
         ["BLKBODY", "VOID", "VOXEL001", "VOXEL002", "VOXEL003"]
     );
     // Organ 0 (VOXEL001): x = 1..2 for z = 0 (one box) and for z = 1 the

@@ -190,15 +190,8 @@ fn the_voxel_input_reads_its_voxels_card_and_names_its_missing_body() {
     .unwrap();
     let l = read_path(&d.join("voxel.inp")).unwrap();
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
-    let names: Vec<&str> = l
-        .scene
-        .geometry
-        .regions
-        .iter()
-        .map(|r| r.name.as_str())
-        .collect();
     assert_eq!(
-        names,
+        region_names(&l),
         [
             "BLKBODY", "VOID", "VOXEL001", "VOXEL002", "VOXEL003", "VOXEL004", "VOXEL005",
             "VOXEL006"

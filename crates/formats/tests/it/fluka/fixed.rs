@@ -5,7 +5,7 @@ use super::*;
 
 /// The FLUKA manual's first example (a beryllium target in vacuum) in the
 /// numbered fixed format, with numbered ASSIGNMA cards.
-const MANUAL_EXAMPLE: &str = "\
+pub(super) const MANUAL_EXAMPLE: &str = "\
 TITLE
 Be target in vacuum, numbered
 GEOBEGIN                                                              COMBINAT
@@ -36,14 +36,7 @@ fn the_manual_example_in_fixed_columns() {
     let l = read_text(MANUAL_EXAMPLE).unwrap();
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
     assert_eq!(l.scene.title, "Be target in vacuum, numbered");
-    let names: Vec<&str> = l
-        .scene
-        .geometry
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
-    assert_eq!(names, ["1", "2", "3", "4"]);
+    assert_eq!(body_names(&l), ["1", "2", "3", "4"]);
     assert_close(&body(&l, "1").params, &[-5e6, 5e6, -5e6, 5e6, -5e6, 5e6]);
     assert_close(&body(&l, "2").params, &[-1e6, 1e6, -1e6, 1e6, -100.0, 1e6]);
     assert_close(&body(&l, "3").params, &[-10.0, 10.0, -10.0, 10.0, 0.0, 5.0]);
@@ -51,14 +44,8 @@ fn the_manual_example_in_fixed_columns() {
     assert_close(&body(&l, "4").params, &[2.5]);
     assert_eq!(zones(&l, "1"), ["+1 -2"]);
     assert_eq!(zones(&l, "4"), ["+3 -4"]);
-    let d: Vec<&str> = l
-        .scene
-        .regions
-        .iter()
-        .map(|p| p.description.as_str())
-        .collect();
     assert_eq!(
-        d,
+        descriptions(&l),
         [
             "BH1; material: BLCKHOLE",
             "VA2; material: VACUUM",
@@ -123,13 +110,8 @@ fn fortran_readings_are_kept_and_warned_about() {
     let l = read_text(&numbered(0, bodies, regions)).unwrap();
     assert_close(&body(&l, "1").params, &[0.0, 0.0, 0.0, 0.01]);
     assert_eq!(zones(&l, "1"), ["+2 -1"]);
-    let w: Vec<_> = l
-        .warnings
-        .iter()
-        .map(|w| (w.line_col(), w.message.as_str()))
-        .collect();
     assert_eq!(
-        w,
+        warnings(&l),
         [
             ((3, 49), "`10` has no decimal point: FLUKA's fixed format reads it as 0.01"),
             ((6, 18), "the sign `-` stands in the operator field (columns 18-19), not with the body number"),

@@ -493,14 +493,7 @@ fn ifdef_ifndef_undef() {
         "r 5 +x +y",
     );
     let l = read_text(&text).unwrap();
-    let names: Vec<_> = l
-        .scene
-        .geometry
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
-    assert_eq!(names, ["x", "y"]);
+    assert_eq!(body_names(&l), ["x", "y"]);
 }
 
 #[test]

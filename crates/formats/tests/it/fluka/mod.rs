@@ -121,6 +121,43 @@ fn geo(bodies: &str, regions: &str) -> String {
     )
 }
 
+/// (line and column, message) of every warning.
+fn warnings(l: &Loaded) -> Vec<((usize, usize), &str)> {
+    l.warnings
+        .iter()
+        .map(|w| (w.line_col(), w.message.as_str()))
+        .collect()
+}
+
+/// The names of every body, in order.
+fn body_names(l: &Loaded) -> Vec<&str> {
+    l.scene
+        .geometry
+        .bodies
+        .iter()
+        .map(|b| b.name.as_str())
+        .collect()
+}
+
+/// The description of every region, in order.
+fn descriptions(l: &Loaded) -> Vec<&str> {
+    l.scene
+        .regions
+        .iter()
+        .map(|p| p.description.as_str())
+        .collect()
+}
+
+/// The names of every region, in order.
+fn region_names(l: &Loaded) -> Vec<&str> {
+    l.scene
+        .geometry
+        .regions
+        .iter()
+        .map(|r| r.name.as_str())
+        .collect()
+}
+
 /// (line, column, message) of every error.
 fn errors(text: &str) -> Vec<(usize, usize, String)> {
     match read_text(text) {

@@ -1,4 +1,5 @@
 //! Integration tests of the geometry engine.
 mod bodies;
+mod fills;
 mod regions;
 mod trees;

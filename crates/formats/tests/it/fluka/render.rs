@@ -71,7 +71,6 @@ fn lit_pixels(scene: &sv_scene::Scene, at: sv_math::DVec3) -> usize {
 }
 
 #[test]
-#[ignore = "needs the tracer's fills (the lead's engine)"]
 fn a_lattice_cell_shows_the_prototype_moved_into_it() {
     // 702: the prototype (TARGET around TARGET2) and two cells (REPLICA
     // around REPLIC2) holding its copy.

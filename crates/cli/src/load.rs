@@ -19,7 +19,7 @@ pub struct Input {
 
 impl Input {
     /// Whether overlaps with air regions count. FLUKA has no rule that air
-    /// gives way (its `VACUUM` regions get air code 1 from the reader): for
+    /// gives way (its `VACUUM` and `AIR` regions get air code 1 from the reader): for
     /// FLUKA inputs every overlap counts.
     pub fn strict_air(&self) -> bool {
         self.format == Format::Fluka

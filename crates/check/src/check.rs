@@ -198,8 +198,9 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
         air_overlaps: sorted.air_overlaps,
         voids: sorted.voids,
         outside: sorted.outside,
+        // Regions beyond the model (black holes) are not the point.
         unseen: (0..model.names.len())
-            .filter(|&region| !seen[region])
+            .filter(|&region| !seen[region] && !model.outside.get(region).copied().unwrap_or(false))
             .map(|region| model.names[region].clone())
             .collect(),
         seconds: start.elapsed().as_secs_f64(),

@@ -97,8 +97,43 @@ fn is_word_in(text: &str, word: &str) -> bool {
         .any(|w| w == word)
 }
 
-/// The region that looks like a FLUKA black hole, with the reason.
-fn detect_black_hole(scene: &Scene) -> Option<(usize, String)> {
+/// How many times the model's size a universe's cavity may be and still
+/// be covered by the rays of a check.
+const NEAR_UNIVERSE: f64 = 20.0;
+
+/// The region that looks like a FLUKA black hole, with the reason: of the
+/// regions the reader marks beyond the model (FLUKA's BLCKHOLE), the one
+/// whose `+` bodies' bounds hold the others' (an inner black hole, such as
+/// a dump's, is not the universe); else one whose description or name says
+/// so.
+fn detect_black_hole(scene: &Scene, p: &Prepared) -> Option<(usize, String)> {
+    let outside: Vec<usize> = (0..scene.regions.len())
+        .filter(|&i| scene.regions[i].outside)
+        .collect();
+    let enclosing = outside.iter().copied().max_by(|&a, &b| {
+        let size = |r: usize| {
+            let b = region_bounds(p, &scene.geometry.regions[r]);
+            if b.is_empty() {
+                0.0
+            } else if b.is_finite() {
+                b.diagonal()
+            } else {
+                f64::INFINITY
+            }
+        };
+        size(a).total_cmp(&size(b)).then(b.cmp(&a))
+    });
+    if let Some(r) = enclosing {
+        let why = if outside.len() > 1 {
+            format!(
+                "it is the black hole that encloses the other {}",
+                outside.len() - 1
+            )
+        } else {
+            "its material is BLCKHOLE".into()
+        };
+        return Some((r, why));
+    }
     for (i, p) in scene.regions.iter().enumerate() {
         let d = p.description.to_ascii_lowercase();
         if let Some(w) = BLACK_HOLE_WORDS.iter().find(|w| d.contains(**w)) {
@@ -169,7 +204,7 @@ impl Model {
         let (prepared, warnings) = Prepared::new(geometry, &PrepareOptions::default())?;
         let (universe, note) = match choice {
             UniverseChoice::None => (None, None),
-            UniverseChoice::Auto => match detect_black_hole(scene) {
+            UniverseChoice::Auto => match detect_black_hole(scene, &prepared) {
                 Some((region, why)) => (
                     Some(Universe::Region(region)),
                     Some(format!(
@@ -201,10 +236,24 @@ impl Model {
             .iter()
             .map(|r| region_bounds(&prepared, r))
             .collect();
-        let mut box_ = prepared.bounds();
+        // The rays cover every finite region that is not beyond the model
+        // (black holes set aside: a FLUKA world of 1e10 cm would leave a
+        // grid too coarse to meet a detector), and the universe's cavity
+        // too when it is near the model, so that holes between the model
+        // and its black hole are found; a far one is left out, as a grid
+        // over it could meet nothing smaller than its spacing.
+        let outside: Vec<bool> = scene.regions.iter().map(|r| r.outside).collect();
+        let mut box_ = region_bounds
+            .iter()
+            .enumerate()
+            .filter(|&(r, b)| !outside.get(r).copied().unwrap_or(false) && b.is_finite())
+            .fold(Aabb::EMPTY, |acc, (_, b)| acc.union(b));
         if let Some(Hull::Prepared(hull)) = &hull {
-            if hull.bounds().is_finite() {
-                box_ = box_.union(&hull.bounds());
+            let cavity = hull.bounds();
+            if cavity.is_finite()
+                && (box_.is_empty() || cavity.diagonal() <= NEAR_UNIVERSE * box_.diagonal())
+            {
+                box_ = box_.union(&cavity);
             }
         }
         Ok((

@@ -104,6 +104,12 @@ impl Report {
         self.overlaps.is_empty() && self.voids.is_empty() && self.outside.is_empty()
     }
 
+    /// True when every region of the model was met by some ray: a clean
+    /// report of a check that met fewer says nothing of the others.
+    pub fn met_every_region(&self) -> bool {
+        self.unseen.is_empty()
+    }
+
     /// The report as pretty JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a report serialises")
@@ -134,10 +140,14 @@ impl Report {
                 self.unseen.join(", ")
             );
         }
-        let verdict = if self.is_clean() {
-            "clean"
-        } else {
-            "problems found"
+        let verdict = match (self.is_clean(), self.met_every_region()) {
+            (true, true) => "clean".to_string(),
+            (true, false) => format!(
+                "incomplete: nothing found, but {} of {} regions were met by no ray; give a finer --spacing or a --box around them (or --allow-unsampled)",
+                self.unseen.len(),
+                self.regions
+            ),
+            (false, _) => "problems found".to_string(),
         };
         let _ = writeln!(text, "{verdict}");
         table.text

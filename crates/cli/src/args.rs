@@ -79,6 +79,21 @@ pub struct ViewArgs {
     /// Vertical field of view in degrees.
     #[arg(long)]
     pub fov: Option<f64>,
+    /// The axis that points up in the default view: z (COMGEOM decks,
+    /// BRL-CAD; the default), y (most accelerator halls) or x. --az and
+    /// --el turn about it.
+    #[arg(long, value_name = "x|y|z")]
+    pub up: Option<String>,
+    /// Height of an orthographic view in model units (with --ortho;
+    /// default: the model's bounding-box diagonal, as rt sizes its view).
+    #[arg(long, value_name = "S")]
+    pub view_size: Option<f64>,
+    /// Cut the model open with a plane: `y=0` takes away everything with
+    /// y > 0, `-y=0` everything with y < 0; `NX,NY,NZ,PX,PY,PZ` takes away
+    /// the side the normal N points to of the plane through P. May be
+    /// given more than once.
+    #[arg(long, value_name = "PLANE", allow_hyphen_values = true)]
+    pub cut: Vec<String>,
     /// Turn shadows off (the paper's shading exactly).
     #[arg(long)]
     pub no_shadows: bool,

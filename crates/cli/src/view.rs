@@ -3,8 +3,9 @@
 
 use crate::args::ViewArgs;
 use crate::error::{bad_input, runtime, CliError};
-use crate::parse::{parse_size, parse_vec3};
-use sv_render::{default_camera, Frame, Renderer, Settings};
+use crate::parse::{parse_numbers, parse_size, parse_vec3};
+use sv_math::DVec3;
+use sv_render::{default_camera, Frame, Renderer, Settings, UpAxis, ViewSpec};
 use sv_scene::{Lens, Light, LightKind, Scene};
 
 /// Raster size from `--size`, the scene, or 960×720.
@@ -23,21 +24,28 @@ pub fn renderer(
     height: u32,
 ) -> Result<Renderer, CliError> {
     let aspect = width as f64 / height as f64;
+    let cut_scene;
+    let scene = if view.cut.is_empty() {
+        scene
+    } else {
+        let mut cut = scene.clone();
+        for plane in &view.cut {
+            let (normal, point) = parse_cut(plane)?;
+            cut.cut_away(normal, point);
+        }
+        cut_scene = cut;
+        &cut_scene
+    };
+    let spec = view_spec(view)?;
     let (mut renderer, warnings) =
         Renderer::new(scene, aspect).map_err(|e| CliError::Input(format!("error: {e}")))?;
     for warning in warnings {
         eprintln!("warning: {warning}");
     }
-    let reframe = view.ortho || view.az.is_some() || view.el.is_some();
-    if reframe || (view.eye.is_some() || view.at.is_some()) {
+    let reframe = view.ortho || view.az.is_some() || view.el.is_some() || view.up.is_some();
+    if reframe || view.eye.is_some() || view.at.is_some() {
         let mut camera = if reframe || scene.camera.is_none() {
-            default_camera(
-                renderer.prepared(),
-                aspect,
-                view.az.unwrap_or(35.0),
-                view.el.unwrap_or(25.0),
-                view.ortho,
-            )
+            default_camera(renderer.prepared(), aspect, &spec)
         } else {
             renderer.camera
         };
@@ -73,10 +81,105 @@ pub fn renderer(
             colour: [1.0; 3],
         }];
         renderer.set_ambient(0.0);
+    } else if scene.lights.is_empty() && !view.cut.is_empty() {
+        // A cutaway view: the light comes with the eye, so that the cut
+        // faces, which face the viewer, are lit whatever their angle.
+        renderer.lights = vec![Light {
+            name: "HEADLIGHT".into(),
+            kind: LightKind::Parallel {
+                dir: renderer.camera.dir,
+            },
+            intensity: 0.85,
+            colour: [1.0; 3],
+        }];
     } else if scene.lights.is_empty() && (reframe || view.eye.is_some()) {
         renderer.lights = sv_render::default_lights(&renderer.camera);
     }
     Ok(renderer)
+}
+
+/// The default view the options ask for: --az, --el, --up, --ortho and
+/// --view-size, each checked.
+pub fn view_spec(view: &ViewArgs) -> Result<ViewSpec, CliError> {
+    let angle = |value: Option<f64>, name: &str, default: f64| match value {
+        None => Ok(default),
+        Some(v) if v.is_finite() => Ok(v),
+        Some(v) => Err(bad_input(format!(
+            "--{name} must be a number of degrees, found {v}"
+        ))),
+    };
+    let up = match view.up.as_deref().map(str::to_ascii_lowercase).as_deref() {
+        None | Some("z") => UpAxis::Z,
+        Some("y") => UpAxis::Y,
+        Some("x") => UpAxis::X,
+        Some(other) => {
+            return Err(bad_input(format!(
+                "--up: expected x, y or z, found `{other}`"
+            )))
+        }
+    };
+    if let Some(size) = view.view_size {
+        if !(size > 0.0 && size.is_finite()) {
+            return Err(bad_input(format!(
+                "--view-size must be positive, found {size}"
+            )));
+        }
+        if !view.ortho {
+            return Err(bad_input(
+                "--view-size sizes an orthographic view: add --ortho",
+            ));
+        }
+    }
+    Ok(ViewSpec {
+        az: angle(view.az, "az", 35.0)?,
+        el: angle(view.el, "el", 25.0)?,
+        up,
+        ortho: view.ortho,
+        view_size: view.view_size,
+    })
+}
+
+/// `--cut`: `x=V`, `-x=V` (and y, z), or `NX,NY,NZ,PX,PY,PZ`; the normal
+/// points into the part taken away.
+fn parse_cut(text: &str) -> Result<(DVec3, DVec3), CliError> {
+    let bad = || {
+        bad_input(format!(
+            "--cut: expected AXIS=VALUE (x=0, -y=2.5) or NX,NY,NZ,PX,PY,PZ, found `{text}`"
+        ))
+    };
+    if let Some((axis, value)) = text.split_once('=') {
+        let (sign, axis) = match axis.trim().strip_prefix('-') {
+            Some(rest) => (-1.0, rest),
+            None => (1.0, axis.trim().trim_start_matches('+')),
+        };
+        let index = match axis.to_ascii_lowercase().as_str() {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return Err(bad()),
+        };
+        let value: f64 = value.trim().parse().map_err(|_| bad())?;
+        if !value.is_finite() {
+            return Err(bad());
+        }
+        let (mut normal, mut point) = (DVec3::ZERO, DVec3::ZERO);
+        normal[index] = sign;
+        point[index] = value;
+        return Ok((normal, point));
+    }
+    match parse_numbers(text).as_deref() {
+        Some(&[nx, ny, nz, px, py, pz]) => {
+            let (normal, point) = (DVec3::new(nx, ny, nz), DVec3::new(px, py, pz));
+            if normal.length_squared() > 0.0 && normal.is_finite() && point.is_finite() {
+                Ok((normal, point))
+            } else {
+                Err(bad_input(format!(
+                    "--cut: the normal must be finite and not zero, found `{text}`"
+                )))
+            }
+        }
+        _ => Err(bad()),
+    }
 }
 
 /// The worker threads. The calling thread is one of them, so a picture

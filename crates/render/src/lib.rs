@@ -21,7 +21,7 @@ mod workspace;
 pub use frame::Frame;
 pub use renderer::Renderer;
 pub use settings::Settings;
-pub use view::{default_camera, default_lights, frame_bounds};
+pub use view::{default_camera, default_lights, frame_bounds, UpAxis, ViewSpec};
 
 use sv_math::DVec3;
 

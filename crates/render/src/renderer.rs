@@ -9,7 +9,7 @@
 
 use crate::tiles::{Bins, TILE};
 use crate::workspace::{Workers, Workspace};
-use crate::{default_camera, default_lights, Frame, Settings};
+use crate::{default_camera, default_lights, Frame, Settings, ViewSpec};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -89,11 +89,19 @@ impl Renderer {
         aspect: f64,
         mut opts: PrepareOptions,
     ) -> Result<(Renderer, Vec<Warning>), PrepareError> {
-        opts.opaque = Some(scene.regions.iter().map(|r| !r.transparent).collect());
+        // Regions beyond the model (black holes) are never drawn.
+        opts.opaque = Some(
+            scene
+                .regions
+                .iter()
+                .map(|r| !r.transparent && !r.outside)
+                .collect(),
+        );
+        opts.outside = Some(scene.regions.iter().map(|r| r.outside).collect());
         let (prepared, warnings) = Prepared::new(&scene.geometry, &opts)?;
         let camera = scene
             .camera
-            .unwrap_or_else(|| default_camera(&prepared, aspect, 35.0, 25.0, false));
+            .unwrap_or_else(|| default_camera(&prepared, aspect, &ViewSpec::default()));
         let lights = if scene.lights.is_empty() {
             default_lights(&camera)
         } else {

@@ -1,13 +1,92 @@
-use crate::az_el;
+//! Default views: what to frame, from where, and the light that goes with
+//! them.
+
 use sv_math::{Aabb, DVec3};
 use sv_scene::{Camera, Lens, Light, LightKind};
 use sv_trace::Prepared;
 
-/// Bounds to frame: the opaque regions' finite zones, else all finite
-/// zones, else a unit box.
+/// The axis that points up in a view.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UpAxis {
+    /// `x` up.
+    X,
+    /// `y` up (most accelerator halls).
+    Y,
+    /// `z` up (COMGEOM decks, BRL-CAD).
+    #[default]
+    Z,
+}
+
+impl UpAxis {
+    /// The unit vector along the axis.
+    pub fn vector(self) -> DVec3 {
+        match self {
+            UpAxis::X => DVec3::X,
+            UpAxis::Y => DVec3::Y,
+            UpAxis::Z => DVec3::Z,
+        }
+    }
+
+    /// A direction given in a `z`-up frame, turned so that `z` goes to this
+    /// axis (a cyclic permutation of the axes, a rotation).
+    fn turn_z_up(self, v: DVec3) -> DVec3 {
+        match self {
+            UpAxis::Z => v,
+            UpAxis::Y => DVec3::new(v.y, v.z, v.x),
+            UpAxis::X => DVec3::new(v.z, v.x, v.y),
+        }
+    }
+}
+
+/// How a default view looks at a model: from azimuth `az` and elevation
+/// `el` (degrees, BRL-CAD's convention about the `up` axis: azimuth from
+/// the first horizontal axis toward the second), in perspective or
+/// orthographic, and how wide an orthographic view is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSpec {
+    /// Azimuth, degrees.
+    pub az: f64,
+    /// Elevation, degrees.
+    pub el: f64,
+    /// The axis that points up.
+    pub up: UpAxis,
+    /// Orthographic (BRL-CAD's default) rather than perspective.
+    pub ortho: bool,
+    /// An orthographic view's height in model units; `None` fits the
+    /// model (its bounds' diagonal, as `rt` sizes its view).
+    pub view_size: Option<f64>,
+}
+
+impl Default for ViewSpec {
+    /// Azimuth 35°, elevation 25°, `z` up, perspective: the default view.
+    fn default() -> Self {
+        ViewSpec {
+            az: 35.0,
+            el: 25.0,
+            up: UpAxis::Z,
+            ortho: false,
+            view_size: None,
+        }
+    }
+}
+
+/// Bounds to frame: the finite opaque regions that are part of the model,
+/// else all its finite regions, the containers around them set aside (the
+/// void sphere around a detector, see [`Prepared::interest_bounds`]);
+/// the black hole's when nothing else is finite; a unit box when nothing
+/// is.
 pub fn frame_bounds(p: &Prepared) -> Aabb {
-    let b = p.opaque_bounds();
-    let b = if b.is_empty() { p.bounds() } else { b };
+    let opaque = p.interest_bounds(|r| p.is_opaque(r) && !p.is_outside(r));
+    let mut b = if opaque.is_empty() {
+        p.interest_bounds(|r| !p.is_outside(r))
+    } else {
+        opaque
+    };
+    if b.is_empty() {
+        // Regions bounded only by planes and quadrics: the black hole
+        // around them is the only size the model has.
+        b = p.bounds();
+    }
     if b.is_empty() {
         Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0))
     } else {
@@ -15,37 +94,77 @@ pub fn frame_bounds(p: &Prepared) -> Aabb {
     }
 }
 
-/// A camera that frames the whole model from azimuth `az` and elevation
-/// `el` (degrees), perspective (30° vertical field of view) or
-/// orthographic as BRL-CAD's `rt` does (view size = bounding-box diagonal).
-pub fn default_camera(p: &Prepared, aspect: f64, az: f64, el: f64, ortho: bool) -> Camera {
+/// A camera that frames the model as `view` says, perspective (30°
+/// vertical field of view) or orthographic as BRL-CAD's `rt` does (view
+/// size = bounding-box diagonal). An eye that would stand inside an opaque
+/// region is moved back along the view until it is out of that region's
+/// bounds.
+pub fn default_camera(p: &Prepared, aspect: f64, view: &ViewSpec) -> Camera {
     let b = frame_bounds(p);
     let c = b.center();
     let r = 0.5 * b.diagonal();
-    let toward_eye = az_el(az, el);
-    let up = if el.abs() > 89.0 {
-        DVec3::new(-toward_eye.x, -toward_eye.y, 0.0).normalize_or(DVec3::Y)
+    let (az, el) = (view.az.to_radians(), view.el.to_radians());
+    let toward_eye = view.up.turn_z_up(DVec3::new(
+        el.cos() * az.cos(),
+        el.cos() * az.sin(),
+        el.sin(),
+    ));
+    let up = if view.el.abs() > 89.0 {
+        // Looking straight down (or up): the view's up is the first
+        // horizontal axis turned toward the azimuth.
+        let horizontal = view.up.turn_z_up(DVec3::new(-az.cos(), -az.sin(), 0.0));
+        horizontal.normalize_or(view.up.turn_z_up(DVec3::Y))
     } else {
-        DVec3::Z
+        view.up.vector()
     };
-    if ortho {
-        return Camera {
-            eye: c + toward_eye * (2.0 * r),
-            dir: -toward_eye,
-            up,
-            lens: Lens::Ortho { height: 2.0 * r },
-        };
-    }
-    let fov: f64 = 30.0;
-    // Fit the bounding sphere in the narrower of the two fields of view.
-    let half_v = (fov.to_radians() / 2.0).tan();
-    let half = half_v.min(half_v * aspect).atan();
-    let dist = r / half.sin();
+    let (distance, lens) = if view.ortho {
+        let height = view.view_size.unwrap_or(2.0 * r);
+        (2.0 * r, Lens::Ortho { height })
+    } else {
+        let fov: f64 = 30.0;
+        // Fit the bounding sphere in the narrower of the two fields of view.
+        let half_v = (fov.to_radians() / 2.0).tan();
+        let half = half_v.min(half_v * aspect).atan();
+        (r / half.sin(), Lens::Fov { vertical_deg: fov })
+    };
+    let eye = out_of_regions(p, c + toward_eye * distance, toward_eye);
     Camera {
-        eye: c + toward_eye * dist,
+        eye,
         dir: -toward_eye,
         up,
-        lens: Lens::Fov { vertical_deg: fov },
+        lens,
+    }
+}
+
+/// `eye`, or, when it lies inside opaque regions of `p`, the first point
+/// along `away` beyond their bounds (unbounded regions cannot be left).
+fn out_of_regions(p: &Prepared, eye: DVec3, away: DVec3) -> DVec3 {
+    let around = p
+        .regions_at(eye)
+        .into_iter()
+        .filter(|&r| p.is_opaque(r as usize) && !p.is_outside(r as usize))
+        .fold(Aabb::EMPTY, |acc, r| {
+            acc.union(&p.region_bounds(r as usize))
+        });
+    if around.is_empty() || !around.is_finite() {
+        return eye;
+    }
+    // The far side of the box along `away`, and a little beyond.
+    let exit = (0..3)
+        .filter(|&a| away[a] != 0.0)
+        .map(|a| {
+            let side = if away[a] > 0.0 {
+                around.max[a]
+            } else {
+                around.min[a]
+            };
+            (side - eye[a]) / away[a]
+        })
+        .fold(f64::INFINITY, f64::min);
+    if exit.is_finite() && exit > 0.0 {
+        eye + away * (exit + 0.05 * around.diagonal())
+    } else {
+        eye
     }
 }
 
@@ -60,4 +179,86 @@ pub fn default_lights(cam: &Camera) -> Vec<Light> {
         intensity: 0.85,
         colour: [1.0; 3],
     }]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sv_geom::{Body, BodyKind, Geometry, Region};
+    use sv_trace::PrepareOptions;
+
+    /// Each body its own region; regions beyond the model and voids
+    /// (named `void`) let light through, as the readers mark them.
+    fn prepared(bodies: Vec<Body>, outside: Vec<bool>) -> Prepared {
+        let mut g = Geometry::default();
+        let mut opaque = Vec::new();
+        for (i, b) in bodies.into_iter().enumerate() {
+            opaque.push(!outside[i] && b.name != "void");
+            g.bodies.push(b);
+            g.regions.push(Region::of_body(format!("r{i}"), i));
+        }
+        let opts = PrepareOptions {
+            opaque: Some(opaque),
+            outside: Some(outside),
+            ..PrepareOptions::default()
+        };
+        Prepared::new(&g, &opts).unwrap().0
+    }
+
+    #[test]
+    fn black_holes_and_containers_are_not_framed() {
+        // A 10 cm detector in a void sphere of 1e6 cm in a black hole of
+        // 1e10 cm: the view frames the detector.
+        let p = prepared(
+            vec![
+                Body::new("bh", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1e10]),
+                Body::new("void", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1e6]),
+                Body::new("det", BodyKind::Rpp, vec![-5.0, 5.0, -5.0, 5.0, -5.0, 5.0]),
+            ],
+            vec![true, false, false],
+        );
+        let b = frame_bounds(&p);
+        assert!(b.diagonal() < 20.0, "{b:?}");
+        let cam = default_camera(&p, 1.0, &ViewSpec::default());
+        assert!(cam.eye.length() < 100.0, "{}", cam.eye);
+    }
+
+    #[test]
+    fn the_up_axis_turns_the_view() {
+        let p = prepared(
+            vec![Body::new("b", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0])],
+            vec![false],
+        );
+        for (up, axis) in [
+            (UpAxis::Z, DVec3::Z),
+            (UpAxis::Y, DVec3::Y),
+            (UpAxis::X, DVec3::X),
+        ] {
+            let view = ViewSpec {
+                up,
+                el: 30.0,
+                ..ViewSpec::default()
+            };
+            let cam = default_camera(&p, 1.0, &view);
+            assert_eq!(cam.up, axis);
+            // Seen from 30° above the horizontal plane of that axis.
+            let toward_eye = -cam.dir.normalize();
+            assert!((toward_eye.dot(axis) - 0.5).abs() < 1e-12, "{up:?}");
+        }
+    }
+
+    #[test]
+    fn an_eye_inside_a_region_steps_out_of_it() {
+        // An opaque shell around the model would put the default eye
+        // inside it; the eye steps out beyond the shell's bounds.
+        let p = prepared(
+            vec![
+                Body::new("core", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]),
+                Body::new("room", BodyKind::Rpp, vec![-6.0, 6.0, -6.0, 6.0, -6.0, 6.0]),
+            ],
+            vec![false, false],
+        );
+        let cam = default_camera(&p, 1.0, &ViewSpec::default());
+        assert!(p.regions_at(cam.eye).is_empty(), "{}", cam.eye);
+    }
 }

@@ -1,5 +1,6 @@
 use crate::{Camera, Light};
-use sv_geom::Geometry;
+use sv_geom::{Body, BodyKind, Geometry, Op, Term, Zone};
+use sv_math::DVec3;
 
 /// Length units of a model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -208,6 +209,49 @@ impl Scene {
         }
         for r in self.regions.iter_mut().filter(|r| r.air != 0) {
             r.transparent = false;
+        }
+        true
+    }
+
+    /// Cut the model open: everything on the side of the plane through
+    /// `point` that `normal` points to is taken away, from every region
+    /// but those beyond the model, so that the section shows (a clip
+    /// plane as Flair's and OpenMC's cutaway views have). The cut faces
+    /// are a half-space's, named `cut N`. False (nothing done) when the
+    /// normal is zero or a value is not finite.
+    pub fn cut_away(&mut self, normal: DVec3, point: DVec3) -> bool {
+        let ok = normal.length_squared() > 0.0 && normal.is_finite() && point.is_finite();
+        if !ok {
+            return false;
+        }
+        let n = normal.normalize();
+        let body = self.geometry.bodies.len();
+        let cuts = self
+            .geometry
+            .bodies
+            .iter()
+            .filter(|b| b.name.starts_with("cut "))
+            .count();
+        // The half-space kept: behind the plane, away from the normal.
+        self.geometry.bodies.push(Body::new(
+            format!("cut {}", cuts + 1),
+            BodyKind::Haf,
+            vec![n.x, n.y, n.z, n.dot(point)],
+        ));
+        let keep = Term {
+            op: Op::Inside,
+            body,
+        };
+        for (region, props) in self.geometry.regions.iter_mut().zip(&self.regions) {
+            if props.outside || region.universe != 0 {
+                continue;
+            }
+            if region.zones.is_empty() {
+                region.zones.push(Zone::new(vec![keep]));
+            }
+            for zone in &mut region.zones {
+                zone.terms.push(keep);
+            }
         }
         true
     }

@@ -22,6 +22,11 @@ pub struct PrepareOptions {
     /// Per region: does it stop light? `None` means every region does.
     /// Transparent regions are still traced by [`Prepared::partitions`].
     pub opaque: Option<Vec<bool>>,
+    /// Per region: is it beyond the model (a FLUKA black hole, an MCNP
+    /// cell of importance zero)? Such regions are left out of
+    /// [`Prepared::interest_bounds`]' default uses (framing, checks).
+    /// `None` means none is.
+    pub outside: Option<Vec<bool>>,
     /// Test every zone for every ray instead of walking the hierarchy, and
     /// trace every ray on its own (no packets of rays in vector lanes).
     /// Slow; results are bit-for-bit the same, which the tests check.
@@ -135,6 +140,7 @@ pub struct Prepared {
     pub(crate) subs: Vec<Arc<Prepared>>,
     pub(crate) terms: Vec<u32>,
     pub(crate) opaque: Vec<bool>,
+    outside: Vec<bool>,
     pub(crate) bvh_all: Bvh,
     pub(crate) bvh_opaque: Bvh,
     pub(crate) unbounded_all: Vec<u32>,
@@ -250,6 +256,10 @@ impl Prepared {
             groups: layout.groups,
             terms: layout.terms,
             opaque,
+            outside: match &opts.outside {
+                Some(o) if o.len() == g.regions.len() => o.clone(),
+                _ => vec![false; g.regions.len()],
+            },
             unbounded_all: lists.unbounded_all,
             unbounded_opaque: lists.unbounded_opaque,
             raster_proxies,
@@ -354,6 +364,11 @@ impl Prepared {
     /// Bounds of body `i`.
     pub fn body_bounds(&self, i: usize) -> Aabb {
         self.body_bounds[self.places[i] as usize]
+    }
+
+    /// Is region `r` beyond the model ([`PrepareOptions::outside`])?
+    pub fn is_outside(&self, r: usize) -> bool {
+        self.outside.get(r).copied().unwrap_or(false)
     }
 
     /// Does region `r` stop light?

@@ -43,6 +43,10 @@ pub struct CheckArgs {
     /// (always so for FLUKA inputs).
     #[arg(long)]
     pub strict_air: bool,
+    /// Exit 0 on a clean report even when some regions were met by no ray
+    /// (by default such a check is incomplete and exits 1).
+    #[arg(long)]
+    pub allow_unsampled: bool,
     #[command(flatten)]
     pub check: UniverseArgs,
     #[command(flatten)]
@@ -100,11 +104,13 @@ pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
     } else {
         emit(&report.to_table());
     }
-    Ok(if report.is_clean() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    Ok(
+        if report.is_clean() && (report.met_every_region() || args.allow_unsampled) {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        },
+    )
 }
 
 /// `--box X0,Y0,Z0,X1,Y1,Z1`.

@@ -425,29 +425,35 @@ fn props(
     props
 }
 
-/// Notes on boundaries that repeat the model (reflective, white, periodic).
+/// Notes on the boundaries that return particles into the model
+/// (reflective, white, periodic): the model stands for more than is drawn.
 fn boundary_notes(scene: &mut Scene, surfaces: &[Surface]) {
-    for (boundary, word) in [
-        (Boundary::Reflective, "reflective"),
-        (Boundary::White, "white"),
-        (Boundary::Periodic, "periodic"),
+    for (boundary, word, meaning) in [
+        (Boundary::Reflective, "reflective", "mirror particles back"),
+        (
+            Boundary::White,
+            "white",
+            "send particles back in random directions",
+        ),
+        (
+            Boundary::Periodic,
+            "periodic",
+            "send particles on through their partners",
+        ),
     ] {
         let ids: Vec<String> = surfaces
             .iter()
             .filter(|s| s.boundary == boundary)
             .map(|s| s.id.to_string())
             .collect();
-        if !ids.is_empty() {
-            scene.notes.push(format!(
-                "{} {} {word}: OpenMC sends particles back at {}; only the model inside is drawn",
-                if ids.len() == 1 {
-                    "surface"
-                } else {
-                    "surfaces"
-                },
-                ids.join(", ") + if ids.len() == 1 { " is" } else { " are" },
-                if ids.len() == 1 { "it" } else { "them" },
-            ));
-        }
+        let (noun, verb) = match ids.len() {
+            0 => continue,
+            1 => ("surface", "is"),
+            _ => ("surfaces", "are"),
+        };
+        scene.notes.push(format!(
+            "{noun} {} {verb} {word} (OpenMC's boundaries {meaning}): only the model itself is drawn",
+            ids.join(", ")
+        ));
     }
 }

@@ -1,6 +1,7 @@
 //! The OpenMC reader against the benchmark models in ../shared/decks and
 //! small models written in the tests.
 
+mod boundaries;
 mod decks;
 mod diagnostics;
 mod materials;

@@ -61,7 +61,7 @@ pub(super) fn read<'a>(
     let content = content(xml, sink, node, id.unwrap_or(0));
     let zones = match region_value(xml, sink, node) {
         Some(v) => region::parse(xml, sink, &v, surfaces),
-        None => Some(vec![Zone::default()]),
+        None => Some(region::all_space()),
     };
     let filled = matches!(content, Some(Content::Fill(..)));
     let region_from_fill = transform(xml, sink, node, filled);

@@ -80,6 +80,7 @@ mod surfaces;
 mod xml;
 
 pub use lattice::UNBOUNDED;
+pub use model::MAX_LATTICE_ELEMENTS;
 pub use region::MAX_DEPTH;
 
 use crate::{Diagnostic, Diagnostics, LoadError, LoadOptions, Loaded, SourceFile};
@@ -307,6 +308,13 @@ fn read_parts<'a>(xml: &Xml, sink: &mut Sink, node: Node<'a, '_>) -> Parts<'a> {
     let mut cells = Vec::new();
     let mut cell_ids = HashMap::new();
     let mut broken_universes = HashSet::new();
+    for d in children(node, "dagmc_universe") {
+        sink.error(
+            xml.error_tag(d, "a DAGMC universe (a CAD mesh) cannot be read")
+                .with_hint("only OpenMC's surface-and-cell geometry is read"),
+        );
+        broken_universes.extend(written_id(d));
+    }
     for c in children(node, "cell") {
         match cells::read(xml, sink, c, &surface_index) {
             Some(cell) => {

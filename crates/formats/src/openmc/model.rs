@@ -12,6 +12,11 @@ use std::collections::{HashMap, HashSet};
 use sv_geom::{Fill, Geometry, Region, Universe};
 use sv_scene::{RegionProps, Scene, Units};
 
+/// At most this many lattice elements in all the lattice fills together:
+/// each filled cell holds its own copy of its lattice, and a hostile file
+/// could otherwise fill many cells with one large lattice.
+pub const MAX_LATTICE_ELEMENTS: usize = 1 << 24;
+
 /// Everything a geometry file holds, read.
 pub(super) struct Parts<'a> {
     /// Surfaces, in file order.
@@ -77,6 +82,7 @@ pub(super) fn build(
         .collect();
     let fills = resolve_fills(xml, sink, &parts, &first_cell, &lattice_index);
     check_lattice_universes(xml, sink, &parts, &first_cell);
+    check_lattice_total(xml, sink, &parts, &fills);
     let props: Vec<RegionProps> = parts
         .cells
         .iter()
@@ -165,6 +171,24 @@ fn resolve_fills(
         }
     }
     out
+}
+
+/// The lattice fills together stay within [`MAX_LATTICE_ELEMENTS`].
+fn check_lattice_total(xml: &Xml, sink: &mut Sink, parts: &Parts, fills: &[Option<FillRef>]) {
+    let mut total = 0usize;
+    for (cell, fill) in parts.cells.iter().zip(fills) {
+        let (Some(FillRef::Lattice(l)), Content::Fill(_, value)) = (fill, &cell.content) else {
+            continue;
+        };
+        total += parts.lattices[*l].order.len();
+        if total > MAX_LATTICE_ELEMENTS {
+            sink.error(xml.error(
+                value,
+                format!("the lattice fills up to cell {} hold more than {MAX_LATTICE_ELEMENTS} elements", cell.id),
+            ));
+            return;
+        }
+    }
 }
 
 /// Every universe a lattice lists must have cells.

@@ -100,6 +100,18 @@ fn single_term(zones: &[Zone]) -> Option<Term> {
     }
 }
 
+/// All space, as a cell without a region fills it: the one zone that
+/// subtracts nothing (an empty zone would be no zone at all to the tracer).
+pub(super) fn all_space() -> Vec<Zone> {
+    vec![Zone {
+        terms: Vec::new(),
+        groups: vec![Group {
+            op: Op::Outside,
+            zones: Vec::new(),
+        }],
+    }]
+}
+
 /// The zones of a cell's region expression; an empty expression is all
 /// space. Surfaces are found by id in `surfaces` (id → body index, `None`
 /// for a surface whose errors were reported where it is defined). `None`
@@ -127,7 +139,7 @@ pub(super) fn parse(
         }
     }
     if tokens.is_empty() {
-        return (!undefined).then(|| vec![Zone::default()]);
+        return (!undefined).then(all_space);
     }
     let mut parser = Parser {
         xml,

@@ -64,10 +64,19 @@ fn deep_expressions_stay_linear() {
 
 #[test]
 fn no_region_is_all_space() {
+    // All space less an empty union: a zone that subtracts nothing.
+    let all = vec![Zone {
+        terms: Vec::new(),
+        groups: vec![sv_geom::Group {
+            op: Op::Outside,
+            zones: Vec::new(),
+        }],
+    }];
     let l = model(r#"<cell id="4" material="1"/>"#);
-    assert_eq!(region(&l, "4").zones, vec![Zone::default()]);
+    assert_eq!(region(&l, "4").zones, all);
     let l = model(r#"<cell id="4" material="1" region="  "/>"#);
-    assert_eq!(region(&l, "4").zones, vec![Zone::default()]);
+    assert_eq!(region(&l, "4").zones, all);
+    assert_eq!(cells_at(&l, DVec3::new(1e6, -3.0, 7.0)), ["4"]);
 }
 
 #[test]

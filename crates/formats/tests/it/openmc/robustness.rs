@@ -207,3 +207,23 @@ fn long_fill_chains_are_followed_without_recursion() {
         .message
         .starts_with("fill cycle: universe 1 → cell 2 fills 2"));
 }
+
+#[test]
+fn many_cells_filled_with_one_large_lattice_are_refused() {
+    // 1000 × 1000 elements filled into 20 cells: over the limit.
+    let n = 1000;
+    let universes = "1 ".repeat(n * n);
+    let cells: String = (0..20)
+        .map(|i| format!(r#"<cell id="{}" universe="{}" fill="7"/>"#, 10 + i, 100 + i))
+        .collect();
+    let holders: String = (0..20)
+        .map(|i| format!(r#"<cell id="{}" fill="{}"/>"#, 100 + i, 100 + i))
+        .collect();
+    let e = errors(&format!(
+        r#"<cell id="1" universe="1" material="1"/>{cells}{holders}
+<lattice id="7" dimension="{n} {n}"><lower_left>0 0</lower_left><pitch>1 1</pitch><universes>{universes}</universes></lattice>"#
+    ));
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].2.starts_with("the lattice fills up to cell 26 hold more than"), "{}", e[0].2);
+    assert_eq!(openmc::MAX_LATTICE_ELEMENTS, 1 << 24);
+}

@@ -24,6 +24,9 @@ pub struct Scratch {
     /// packet tests each zone its rays' cells list once.
     pub(crate) tested: Vec<u32>,
     pub(crate) packet: u32,
+    /// Span lists to lend the evaluation of groups, one per level of
+    /// nesting under way.
+    pub(crate) spares: Vec<Vec<Span>>,
 }
 
 impl Scratch {
@@ -39,7 +42,19 @@ impl Scratch {
             stack: Stack::new(),
             tested: vec![0; p.zones.len()],
             packet: 0,
+            spares: Vec::new(),
         }
+    }
+
+    /// An empty span list, lent until [`Scratch::give_back`].
+    pub(crate) fn spare(&mut self) -> Vec<Span> {
+        self.spares.pop().unwrap_or_default()
+    }
+
+    /// A span list back, emptied, for the next [`Scratch::spare`].
+    pub(crate) fn give_back(&mut self, mut spans: Vec<Span>) {
+        spans.clear();
+        self.spares.push(spans);
     }
 
     /// Begin a packet of shadow rays: no zone is yet tested for it.

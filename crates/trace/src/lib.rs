@@ -22,6 +22,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod build;
 mod bvh;
 mod frustum;
 mod hit;

@@ -56,7 +56,7 @@ mod card;
 mod read;
 mod write;
 
-pub use read::{detect_version, read, MAX_ZONES};
+pub use read::{detect_version, read};
 pub use write::{ell_foci_to_centre, write, WriteError, WrittenDeck};
 
 use crate::DeckVersion;

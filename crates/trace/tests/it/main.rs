@@ -1,3 +1,4 @@
 //! Integration tests of the geometry engine.
 mod bodies;
 mod regions;
+mod trees;

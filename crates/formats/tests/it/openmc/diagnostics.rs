@@ -106,7 +106,14 @@ fn xml_that_is_not_well_formed_is_located() {
     let e = errors_of(read("<geometry/>"));
     assert_eq!(e, [(1, 1, "the geometry has no cells".to_string())]);
     let e = errors(r#"<dagmc_universe id="3" filename="dagmc.h5m"/><cell id="1" fill="3"/>"#);
-    assert_eq!(e, [(2, 1, "a DAGMC universe (a CAD mesh) cannot be read".to_string())]);
+    assert_eq!(
+        e,
+        [(
+            2,
+            1,
+            "a DAGMC universe (a CAD mesh) cannot be read".to_string()
+        )]
+    );
 }
 
 #[test]

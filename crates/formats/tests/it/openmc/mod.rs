@@ -96,32 +96,33 @@ fn close(a: DVec3, b: DVec3) -> bool {
     (a - b).length() < 1e-9 * (1.0 + b.length())
 }
 
-/// The cells found at `p`, from the root down through fills and lattices,
-/// by the engine's rules (ENGINE.md) evaluated directly: body insides, the
-/// zones and groups of each region, fills moved by their transforms and
-/// lattice elements found by the nearest centre.
+/// The cells found at `p`, from the root down through fills and lattices:
+/// in each universe the region the engine says holds the point
+/// ([`sv_trace::Prepared::region_contains`]), then the fill's universe at
+/// the point moved by the fill's transform, or the lattice element's
+/// universe found by ENGINE.md's rules (the nearest centre of a hexagonal
+/// lattice).
 fn cells_at(l: &Loaded, p: DVec3) -> Vec<String> {
-    let shapes: Vec<_> = l
-        .scene
-        .geometry
-        .bodies
-        .iter()
-        .map(|b| {
-            sv_geom::prepare(b, &mut Vec::new())
-                .expect("body prepares")
-                .0
-        })
-        .collect();
+    let g = &l.scene.geometry;
+    let (prepared, _) = sv_trace::Prepared::new(g, &sv_trace::PrepareOptions::default())
+        .unwrap_or_else(|e| panic!("the engine refuses the model: {e}"));
     let mut out = Vec::new();
     let (mut universe, mut point) = (0, p);
     for _ in 0..16 {
-        let regions = &l.scene.geometry.regions;
-        let Some(r) = regions
+        let Some((index, r)) = g
+            .regions
             .iter()
-            .find(|r| r.universe == universe && r.zones.iter().any(|z| in_zone(&shapes, z, point)))
+            .enumerate()
+            .find(|(i, r)| r.universe == universe && prepared.region_contains(*i, point))
         else {
             break;
         };
+        assert!(
+            !g.regions.iter().enumerate().any(|(i, o)| i != index
+                && o.universe == universe
+                && prepared.region_contains(i, point)),
+            "cells overlap at {point}"
+        );
         out.push(r.name.clone());
         match &r.fill {
             None => break,
@@ -147,15 +148,6 @@ fn cells_at(l: &Loaded, p: DVec3) -> Vec<String> {
         }
     }
     out
-}
-
-fn in_zone(shapes: &[sv_geom::shape::Shape], z: &Zone, p: DVec3) -> bool {
-    z.terms
-        .iter()
-        .all(|t| shapes[t.body].contains(p) == (t.op == Op::Inside))
-        && z.groups
-            .iter()
-            .all(|g| g.zones.iter().any(|inner| in_zone(shapes, inner, p)) == (g.op == Op::Inside))
 }
 
 /// The lattice element holding `q` (lattice coordinates).

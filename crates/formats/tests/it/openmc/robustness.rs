@@ -224,6 +224,11 @@ fn many_cells_filled_with_one_large_lattice_are_refused() {
 <lattice id="7" dimension="{n} {n}"><lower_left>0 0</lower_left><pitch>1 1</pitch><universes>{universes}</universes></lattice>"#
     ));
     assert_eq!(e.len(), 1, "{e:?}");
-    assert!(e[0].2.starts_with("the lattice fills up to cell 26 hold more than"), "{}", e[0].2);
+    assert!(
+        e[0].2
+            .starts_with("the lattice fills up to cell 26 hold more than"),
+        "{}",
+        e[0].2
+    );
     assert_eq!(openmc::MAX_LATTICE_ELEMENTS, 1 << 24);
 }

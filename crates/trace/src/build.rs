@@ -33,13 +33,24 @@ pub(crate) struct ZoneBuilder<'a> {
 }
 
 impl ZoneBuilder<'_> {
-    /// Every region's zones, checked: a region without zones, an empty
-    /// zone, a body that does not exist are problems.
-    pub fn regions(&mut self, g: &Geometry) {
+    /// The zones of every region of `universe`, checked: a region without
+    /// zones (unless filled: a filled region without zones fills all the
+    /// space of its universe), an empty zone, a body that does not exist
+    /// are problems.
+    pub fn regions(&mut self, g: &Geometry, universe: usize) {
         for (ri, r) in g.regions.iter().enumerate() {
+            if r.universe != universe {
+                continue;
+            }
             if r.zones.is_empty() && r.fill.is_none() {
                 self.problems
                     .push(format!("region `{}`: it has no bodies", r.name));
+            }
+            let first = self.layout.zones.len();
+            if r.zones.is_empty() && r.fill.is_some() {
+                self.layout
+                    .zones
+                    .push(everywhere(ri as u32, self.layout.terms.len() as u32));
             }
             for (zi, z) in r.zones.iter().enumerate() {
                 if let Some(problem) = self.check(z, g.bodies.len()) {
@@ -49,6 +60,12 @@ impl ZoneBuilder<'_> {
                 }
                 if let Some(pz) = self.zone(z, ri as u32) {
                     self.layout.zones.push(pz);
+                }
+            }
+            if r.fill.is_some() {
+                for z in &mut self.layout.zones[first..] {
+                    z.groups |= PreparedZone::FILLED;
+                    (z.convex, z.lanes) = (false, false);
                 }
             }
         }
@@ -163,6 +180,21 @@ impl ZoneBuilder<'_> {
             count,
             bounds,
         })
+    }
+}
+
+/// A zone of region `region` that is all space (its terms would start at
+/// `first`; it has none).
+fn everywhere(region: u32, first: u32) -> PreparedZone {
+    PreparedZone {
+        region,
+        first,
+        plus: 0,
+        minus: 0,
+        groups: 0,
+        bounds: Aabb::INFINITE,
+        convex: false,
+        lanes: false,
     }
 }
 
@@ -306,7 +338,7 @@ pub(crate) fn in_space_order(layout: Layout, bodies: usize) -> (Layout, Vec<u32>
             ..*z
         };
         new_terms.extend(terms[first..first + n].iter().map(|&b| place(b)));
-        if z.groups > 0 {
+        if z.group_count() > 0 {
             // The index of its first group, not a body.
             new_terms.push(terms[first + n]);
         }

@@ -27,6 +27,9 @@ pub struct Scratch {
     /// Span lists to lend the evaluation of groups, one per level of
     /// nesting under way.
     pub(crate) spares: Vec<Vec<Span>>,
+    /// The working memory of each sub-universe (filled regions), made on
+    /// first use.
+    pub(crate) subs: Vec<Option<Box<Scratch>>>,
 }
 
 impl Scratch {
@@ -43,7 +46,31 @@ impl Scratch {
             tested: vec![0; p.zones.len()],
             packet: 0,
             spares: Vec::new(),
+            subs: Vec::new(),
         }
+    }
+
+    /// A lent copy of the spans in `cur`.
+    pub(crate) fn spare_copy(&mut self) -> Vec<Span> {
+        let mut copy = self.spare();
+        copy.extend_from_slice(&self.cur);
+        copy
+    }
+
+    /// The working memory of sub-universe `k` (prepared as `p`), lent until
+    /// [`Scratch::put_sub`].
+    pub(crate) fn take_sub(&mut self, k: usize, p: &Prepared) -> Box<Scratch> {
+        if self.subs.len() <= k {
+            self.subs.resize_with(k + 1, || None);
+        }
+        self.subs[k]
+            .take()
+            .unwrap_or_else(|| Box::new(Scratch::new(p)))
+    }
+
+    /// Working memory back from [`Scratch::take_sub`].
+    pub(crate) fn put_sub(&mut self, k: usize, s: Box<Scratch>) {
+        self.subs[k] = Some(s);
     }
 
     /// An empty span list, lent until [`Scratch::give_back`].

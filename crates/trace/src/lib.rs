@@ -24,6 +24,7 @@
 
 mod build;
 mod bvh;
+mod fill;
 mod frustum;
 mod hit;
 mod lightbuf;

@@ -3,7 +3,9 @@
 
 use crate::build::{default_tolerance, in_space_order, permute, Layout, ZoneBuilder};
 use crate::bvh::Bvh;
+use crate::fill::{FillBuilder, FillTracer};
 use crate::raster::RasterProxy;
+use std::sync::Arc;
 use sv_geom::shape::{Shape, Sphere};
 use sv_geom::{Geometry, Warning};
 use sv_math::{Aabb, DVec3};
@@ -44,7 +46,8 @@ pub(crate) struct PreparedZone {
     pub first: u32,
     pub plus: u16,
     pub minus: u16,
-    /// How many groups it has.
+    /// How many groups it has, and [`PreparedZone::FILLED`] when its
+    /// region is filled.
     pub groups: u16,
     pub bounds: Aabb,
     /// Every `+` body is convex and there are no groups (so the zone is
@@ -55,6 +58,24 @@ pub(crate) struct PreparedZone {
     /// the zone for all its rays at once, but for the rays that meet the
     /// box of a `-` body it cannot cast.
     pub lanes: bool,
+}
+
+impl PreparedZone {
+    /// The bit of `groups` that marks a zone of a filled region.
+    pub const FILLED: u16 = 1 << 15;
+
+    /// How many groups it has.
+    #[inline(always)]
+    pub fn group_count(&self) -> usize {
+        usize::from(self.groups & !Self::FILLED)
+    }
+
+    /// True for a zone of a filled region: what a ray meets there is what
+    /// fills it.
+    #[inline(always)]
+    pub fn is_filled(&self) -> bool {
+        self.groups & Self::FILLED != 0
+    }
 }
 
 /// A group of a zone: the union of `count` nested zones from `first` in
@@ -104,6 +125,12 @@ pub struct Prepared {
     pub(crate) nested: Vec<PreparedZone>,
     /// Every zone's groups.
     pub(crate) groups: Vec<PreparedGroup>,
+    /// What fills the filled regions, and per region (of every universe)
+    /// the index of its fill here, `u32::MAX` for none.
+    pub(crate) fills: Vec<FillTracer>,
+    pub(crate) region_fills: Vec<u32>,
+    /// The universes the fills hold, each prepared in its own frame.
+    pub(crate) subs: Vec<Arc<Prepared>>,
     pub(crate) terms: Vec<u32>,
     pub(crate) opaque: Vec<bool>,
     pub(crate) bvh_all: Bvh,
@@ -125,7 +152,7 @@ pub struct Prepared {
     /// [`in_space_order`]): the body index of each stored body, and the
     /// place of each body.
     body_ids: Vec<u32>,
-    places: Vec<u32>,
+    pub(crate) places: Vec<u32>,
     /// Trace rays in packets where the processor has vector instructions
     /// for it: [`Prepared::first_hits_in`], [`Prepared::first_hits`],
     /// [`Prepared::tile_hits`] and [`Prepared::occluded_toward`]. Off with
@@ -141,7 +168,29 @@ impl Prepared {
         opts: &PrepareOptions,
     ) -> Result<(Prepared, Vec<Warning>), PrepareError> {
         let mut warnings = Vec::new();
-        let (mut shapes, mut body_bounds, mut problems) = prepare_bodies(g, &mut warnings);
+        let p = Prepared::universe_with(g, opts, vec![0], &mut warnings)?;
+        Ok((p, warnings))
+    }
+
+    /// Universe `path.last()` of `g` prepared in its own frame, with the
+    /// universes its regions' fills hold (`path` lists the universes
+    /// being prepared, outermost first).
+    pub(crate) fn universe(
+        g: &Geometry,
+        opts: &PrepareOptions,
+        path: Vec<usize>,
+    ) -> Result<Prepared, PrepareError> {
+        Prepared::universe_with(g, opts, path, &mut Vec::new())
+    }
+
+    fn universe_with(
+        g: &Geometry,
+        opts: &PrepareOptions,
+        path: Vec<usize>,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Prepared, PrepareError> {
+        let universe = *path.last().expect("a universe");
+        let (mut shapes, mut body_bounds, mut problems) = prepare_bodies(g, warnings);
         let opaque = opacity(g, opts, &mut problems);
         let mut builder = ZoneBuilder {
             shapes: &shapes,
@@ -149,8 +198,18 @@ impl Prepared {
             layout: Layout::default(),
             problems: Vec::new(),
         };
-        builder.regions(g);
+        builder.regions(g, universe);
         problems.append(&mut builder.problems);
+        let mut fills = FillBuilder::new(g, opts, path);
+        let mut region_fills = vec![u32::MAX; g.regions.len()];
+        let mut fill_tracers = Vec::new();
+        for (r, region) in g.regions.iter().enumerate() {
+            if let (true, Some(fill)) = (region.universe == universe, &region.fill) {
+                region_fills[r] = fill_tracers.len() as u32;
+                fill_tracers.push(fills.fill(r, fill));
+            }
+        }
+        problems.append(&mut fills.problems);
         if !problems.is_empty() {
             return Err(PrepareError { problems });
         }
@@ -201,8 +260,11 @@ impl Prepared {
             body_ids,
             places,
             packets: !opts.brute_force,
+            fills: fill_tracers,
+            region_fills,
+            subs: fills.subs,
         };
-        Ok((p, warnings))
+        Ok(p)
     }
 
     /// Bounds of every zone with finite bounds (unbounded regions are
@@ -287,11 +349,11 @@ impl Prepared {
     /// The groups of zone `z`.
     #[inline]
     pub(crate) fn zone_groups(&self, z: &PreparedZone) -> &[PreparedGroup] {
-        if z.groups == 0 {
+        if z.group_count() == 0 {
             return &[];
         }
         let first = self.terms[z.first as usize + z.plus as usize + z.minus as usize] as usize;
-        &self.groups[first..first + z.groups as usize]
+        &self.groups[first..first + z.group_count()]
     }
 }
 
@@ -362,7 +424,9 @@ impl ZoneLists {
             opaque_bounds: Aabb::EMPTY,
         };
         for (i, z) in zones.iter().enumerate() {
-            let visible = opaque[z.region as usize];
+            // What fills a region is traced whatever the region's own
+            // opacity: its content's decides.
+            let visible = opaque[z.region as usize] || z.is_filled();
             if z.bounds.is_finite() && !brute_force {
                 lists.bounded_all.push((i as u32, z.bounds));
                 lists.bounds = lists.bounds.union(&z.bounds);

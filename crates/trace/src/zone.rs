@@ -44,7 +44,7 @@ impl Prepared {
     ) -> bool {
         let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         s.cur.clear();
-        if z.plus == 1 && z.minus == 0 && z.groups == 0 {
+        if z.plus == 1 && z.minus == 0 && z.group_count() == 0 {
             // A lone body: its spans are the zone's.
             let b = self.terms[z.first as usize];
             let (a, e) = self.body_segs(b, ray, s, true);
@@ -80,7 +80,7 @@ impl Prepared {
                 return false;
             }
         }
-        if z.groups > 0 && !self.apply_groups(z, ray, s) {
+        if z.group_count() > 0 && !self.apply_groups(z, ray, s) {
             return false;
         }
         s.cur.retain(keep);

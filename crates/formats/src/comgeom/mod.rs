@@ -16,7 +16,7 @@
 //!   ([`BodyKind::Ell1`]) in v5, as in `comgeom-g`;
 //! * regions are named by their number; `OR` starts a new zone; a `G`
 //!   operator refers to a region, which becomes a group of that region's
-//!   zones, `+( … )` or `-( … )`, as written;
+//!   zones ([`sv_geom::Group`]), `+( … )` or `-( … )`, never expanded;
 //! * region fields are read from column 7 (11 in v1) as in `comgeom-g`;
 //!   when a deck's numbers straddle those columns (left-aligned or GIFT-style
 //!   4- and 5-digit numbers) and another start column reads every region card,

@@ -96,33 +96,63 @@ fn close(a: DVec3, b: DVec3) -> bool {
     (a - b).length() < 1e-9 * (1.0 + b.length())
 }
 
-/// The cells found at `p`, from the root down through fills and lattices:
-/// in each universe the region the engine says holds the point
-/// ([`sv_trace::Prepared::region_contains`]), then the fill's universe at
-/// the point moved by the fill's transform, or the lattice element's
-/// universe found by ENGINE.md's rules (the nearest centre of a hexagonal
-/// lattice).
+/// The cells found at `p`, from the root down through fills and lattices,
+/// by ENGINE.md's rules evaluated in the test: in each universe the region
+/// whose zones hold the point (body insides, zones and groups), then the
+/// fill's universe at the point moved by the fill's transform, or the
+/// lattice element's universe (the nearest centre of a hexagonal lattice).
+/// The engine's own walk through the fills
+/// ([`sv_trace::Prepared::regions_at`]) must find the same cells, the
+/// engine's [`sv_trace::Prepared::region_contains`] the root cell, and no
+/// two cells of a universe may hold the point.
 fn cells_at(l: &Loaded, p: DVec3) -> Vec<String> {
     let g = &l.scene.geometry;
     let (prepared, _) = sv_trace::Prepared::new(g, &sv_trace::PrepareOptions::default())
         .unwrap_or_else(|e| panic!("the engine refuses the model: {e}"));
+    let walked = walk(l, p);
+    let mut engine: Vec<&str> = prepared
+        .regions_at(p)
+        .iter()
+        .map(|r| g.regions[*r as usize].name.as_str())
+        .collect();
+    let mut ours: Vec<&str> = walked.iter().map(String::as_str).collect();
+    engine.sort_unstable();
+    ours.sort_unstable();
+    assert_eq!(ours, engine, "the engine finds other cells at {p}");
+    if let Some(root) = walked.first() {
+        let index = g.region_index(root).expect("a cell of the model");
+        assert!(prepared.region_contains(index, p));
+    }
+    walked
+}
+
+/// [`cells_at`] as the test walks the fills.
+fn walk(l: &Loaded, p: DVec3) -> Vec<String> {
+    let g = &l.scene.geometry;
+    let shapes: Vec<_> = g
+        .bodies
+        .iter()
+        .map(|b| {
+            sv_geom::prepare(b, &mut Vec::new())
+                .expect("body prepares")
+                .0
+        })
+        .collect();
     let mut out = Vec::new();
     let (mut universe, mut point) = (0, p);
     for _ in 0..16 {
-        let Some((index, r)) = g
+        let holding: Vec<&Region> = g
             .regions
             .iter()
-            .enumerate()
-            .find(|(i, r)| r.universe == universe && prepared.region_contains(*i, point))
-        else {
-            break;
+            .filter(|r| {
+                r.universe == universe && r.zones.iter().any(|z| in_zone(&shapes, z, point))
+            })
+            .collect();
+        let r = match holding[..] {
+            [] => break,
+            [r] => r,
+            _ => panic!("cells overlap at {point}"),
         };
-        assert!(
-            !g.regions.iter().enumerate().any(|(i, o)| i != index
-                && o.universe == universe
-                && prepared.region_contains(i, point)),
-            "cells overlap at {point}"
-        );
         out.push(r.name.clone());
         match &r.fill {
             None => break,
@@ -148,6 +178,15 @@ fn cells_at(l: &Loaded, p: DVec3) -> Vec<String> {
         }
     }
     out
+}
+
+fn in_zone(shapes: &[sv_geom::shape::Shape], z: &Zone, p: DVec3) -> bool {
+    z.terms
+        .iter()
+        .all(|t| shapes[t.body].contains(p) == (t.op == Op::Inside))
+        && z.groups
+            .iter()
+            .all(|g| g.zones.iter().any(|inner| in_zone(shapes, inner, p)) == (g.op == Op::Inside))
 }
 
 /// The lattice element holding `q` (lattice coordinates).

@@ -2,6 +2,7 @@
 //! inputs, OpenMC models, the scene language and the POV-Ray writer.
 mod comgeom;
 mod fluka;
+mod mutation;
 mod native;
 mod openmc;
 mod pov;

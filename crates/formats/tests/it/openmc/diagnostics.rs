@@ -128,9 +128,8 @@ fn an_undefined_surface_a_cycle_and_a_short_lattice_are_reported_together() {
 <cell id="5" cell="x" material="1"/>
 <cell id="5" material="1"/>"#,
     );
-    let got: Vec<(usize, usize, &str)> = e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
     assert_eq!(
-        got,
+        by_place(&e),
         [
             (3, 34, "surface 2 is not defined"),
             (

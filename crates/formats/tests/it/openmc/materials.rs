@@ -190,9 +190,8 @@ fn material_errors_are_located_in_materials_xml() {
   <material id="4"><density units="sum"/><nuclide name="H1" ao="1"/></material>
 </materials>"#,
     ));
-    let got: Vec<(usize, usize, &str)> = e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
     assert_eq!(
-        got,
+        by_place(&e),
         [
             (2, 46, "unknown density units `g/m3`"),
             (3, 69, "`Uu235` is not a nuclide or element name"),
@@ -210,9 +209,8 @@ fn material_errors_are_located_in_materials_xml() {
 <cell id="2" universe="2" material="void" density="2"/>
 <cell id="3" universe="3" material="1" density="0"/>"#,
     );
-    let got: Vec<(usize, usize, &str)> = e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
     assert_eq!(
-        got,
+        by_place(&e),
         [
             (2, 24, "material 3 is not defined in materials.xml"),
             (

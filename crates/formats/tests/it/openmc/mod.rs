@@ -60,23 +60,21 @@ fn errors(body: &str) -> Vec<(usize, usize, String)> {
 fn errors_of(result: Result<Loaded, Diagnostics>) -> Vec<(usize, usize, String)> {
     match result {
         Ok(_) => panic!("expected errors"),
-        Err(d) => d
-            .errors()
-            .map(|e| {
-                let (l, c) = e.line_col();
-                (l, c, e.message.clone())
-            })
-            .collect(),
+        Err(d) => crate::mutation::located(&d),
     }
 }
 
+/// Errors as (line, column, message) with borrowed messages, to compare
+/// with a list written in a test.
+fn by_place(e: &[(usize, usize, String)]) -> Vec<(usize, usize, &str)> {
+    e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect()
+}
+
+/// The region of cell `name`.
 fn region<'a>(l: &'a Loaded, name: &str) -> &'a Region {
-    l.scene
-        .geometry
-        .regions
-        .iter()
-        .find(|r| r.name == name)
-        .unwrap_or_else(|| panic!("no cell {name}"))
+    let g = &l.scene.geometry;
+    let index = g.region_index(name);
+    &g.regions[index.unwrap_or_else(|| panic!("no cell {name}"))]
 }
 
 /// A region's expression with bodies named by surface id.

@@ -2,6 +2,7 @@
 //! limits keep hostile inputs cheap.
 
 use super::*;
+use crate::mutation::{self, apply, Edit};
 use proptest::prelude::*;
 
 /// (geometry.xml, materials.xml) of every model of the set, or a small
@@ -32,14 +33,6 @@ fn corpus() -> Vec<(String, String)> {
     out
 }
 
-#[derive(Clone, Debug)]
-enum Edit {
-    Insert(usize, String),
-    Delete(usize, usize),
-    DuplicateLine(usize),
-    SwapLines(usize, usize),
-}
-
 fn edit() -> impl Strategy<Value = Edit> {
     let snippet = prop_oneof![
         Just("(".to_string()),
@@ -57,46 +50,11 @@ fn edit() -> impl Strategy<Value = Edit> {
         Just(r#" fill="1""#.to_string()),
         Just(r#" universe="1""#.to_string()),
         Just(r#" rotation="90 0 0""#.to_string()),
-        Just("<hex_lattice id=\"9\" n_rings=\"3\"><center>0 0</center><pitch>1</pitch><universes>1 1 1 1 1 1 1</universes></hex_lattice>".to_string()),
+        Just("<hex_lattice id=\"9\" n_rings=\"2\"><center>0 0</center><pitch>1</pitch><universes>1 1 1 1 1 1 1</universes></hex_lattice>".to_string()),
         Just("<lattice id=\"8\" dimension=\"2 2 2\"><lower_left>0 0 0</lower_left><pitch>1 1 1</pitch><universes>1 1 1 1 1 1 1 1</universes></lattice>".to_string()),
         "[ -~]{1,8}",
     ];
-    prop_oneof![
-        (any::<usize>(), snippet).prop_map(|(p, s)| Edit::Insert(p, s)),
-        (any::<usize>(), 1usize..40).prop_map(|(p, n)| Edit::Delete(p, n)),
-        any::<usize>().prop_map(Edit::DuplicateLine),
-        (any::<usize>(), any::<usize>()).prop_map(|(a, b)| Edit::SwapLines(a, b)),
-    ]
-}
-
-fn apply(text: &str, edits: &[Edit]) -> String {
-    let mut chars: Vec<char> = text.chars().collect();
-    for e in edits {
-        match e {
-            Edit::Insert(p, s) => {
-                let at = p % (chars.len() + 1);
-                chars.splice(at..at, s.chars());
-            }
-            Edit::Delete(p, n) => {
-                let at = p % (chars.len() + 1);
-                let end = (at + n).min(chars.len());
-                chars.drain(at..end);
-            }
-            Edit::DuplicateLine(i) | Edit::SwapLines(i, _) => {
-                let s: String = chars.iter().collect();
-                let mut lines: Vec<&str> = s.split('\n').collect();
-                let a = i % lines.len();
-                if let Edit::SwapLines(_, j) = e {
-                    let b = j % lines.len();
-                    lines.swap(a, b);
-                } else {
-                    lines.insert(a, lines[a]);
-                }
-                chars = lines.join("\n").chars().collect();
-            }
-        }
-    }
-    chars.into_iter().collect()
+    mutation::edit(snippet)
 }
 
 fn read_both(geometry: String, materials: String) -> Result<Loaded, Diagnostics> {

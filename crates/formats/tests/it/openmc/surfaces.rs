@@ -167,6 +167,5 @@ fn surface_errors_are_located() {
         (7, 1, "surface without an id"),
         (8, 1, "z-plane surface without coeffs"),
     ];
-    let got: Vec<(usize, usize, &str)> = e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
-    assert_eq!(got, want);
+    assert_eq!(by_place(&e), want);
 }

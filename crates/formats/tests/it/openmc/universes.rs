@@ -4,6 +4,23 @@
 use super::*;
 use sv_math::DAffine3;
 
+/// The names of the universes, the root first.
+fn universe_names(l: &Loaded) -> Vec<&str> {
+    let universes = &l.scene.geometry.universes;
+    universes.iter().map(|u| u.name.as_str()).collect()
+}
+
+/// The transform of the universe filling cell `name`.
+fn fill_transform(l: &Loaded, name: &str) -> DAffine3 {
+    match &region(l, name).fill {
+        Some(Fill::Universe {
+            region_from_universe,
+            ..
+        }) => *region_from_universe,
+        other => panic!("cell {name} is filled with {other:?}"),
+    }
+}
+
 /// A pin universe 5 (cell 51 of fuel inside z-cylinder 10, cell 52 of
 /// water around it), plus `rest`.
 fn with_pin(rest: &str) -> Loaded {
@@ -21,14 +38,7 @@ fn a_fill_names_a_universe_moved_by_its_translation() {
         r#"<surface id="1" type="sphere" coeffs="0 0 0 5" boundary="vacuum"/>
 <cell id="1" fill="5" region="-1" translation="1 2 3"/>"#,
     );
-    let names: Vec<&str> = l
-        .scene
-        .geometry
-        .universes
-        .iter()
-        .map(|u| u.name.as_str())
-        .collect();
-    assert_eq!(names, ["0", "5"]);
+    assert_eq!(universe_names(&l), ["0", "5"]);
     assert_eq!(region(&l, "51").universe, 1);
     assert_eq!(region(&l, "1").universe, 0);
     let Some(Fill::Universe {
@@ -59,13 +69,7 @@ fn rotations_turn_the_fill_as_openmc_does() {
 <surface id="1" type="sphere" coeffs="0 0 0 5"/>
 <cell id="1" fill="5" region="-1" rotation="0 0 90"/>"#,
     );
-    let Some(Fill::Universe {
-        region_from_universe: m,
-        ..
-    }) = &region(&l, "1").fill
-    else {
-        panic!("no fill");
-    };
+    let m = fill_transform(&l, "1");
     assert!(close(m.transform_point3(DVec3::X), DVec3::Y));
     assert_eq!(cells_at(&l, DVec3::new(3.0, 0.5, 0.0)), ["1", "51"]);
     assert_eq!(cells_at(&l, DVec3::new(0.5, 3.0, 0.0)), ["1", "52"]);
@@ -79,13 +83,7 @@ fn three_angles_compose_about_x_then_y_then_z() {
         r#"<surface id="1" type="sphere" coeffs="0 0 0 50"/>
 <cell id="1" fill="5" region="-1" rotation="30 45 60" translation="1 -2 3"/>"#,
     );
-    let Some(Fill::Universe {
-        region_from_universe: m,
-        ..
-    }) = &region(&l, "1").fill
-    else {
-        panic!("no fill");
-    };
+    let m = fill_transform(&l, "1");
     let r = DAffine3::from_translation(DVec3::new(1.0, -2.0, 3.0))
         * DAffine3::from_rotation_x(30f64.to_radians())
         * DAffine3::from_rotation_y(45f64.to_radians())
@@ -103,13 +101,7 @@ fn a_rotation_matrix_is_given_by_rows() {
         r#"<surface id="1" type="sphere" coeffs="0 0 0 50"/>
 <cell id="1" fill="5" region="-1" rotation="0 1 0 -1 0 0 0 0 1"/>"#,
     );
-    let Some(Fill::Universe {
-        region_from_universe: m,
-        ..
-    }) = &region(&l, "1").fill
-    else {
-        panic!("no fill");
-    };
+    let m = fill_transform(&l, "1");
     assert!(close(
         m.inverse().transform_point3(DVec3::new(1.0, 2.0, 0.0)),
         DVec3::new(2.0, -1.0, 0.0)
@@ -139,14 +131,7 @@ fn the_root_is_universe_zero_or_the_one_no_fill_uses() {
         r#"<surface id="1" type="sphere" coeffs="0 0 0 5"/>
 <cell id="1" universe="7" fill="5" region="-1"/>"#,
     );
-    let names: Vec<&str> = l
-        .scene
-        .geometry
-        .universes
-        .iter()
-        .map(|u| u.name.as_str())
-        .collect();
-    assert_eq!(names, ["7", "5"]);
+    assert_eq!(universe_names(&l), ["7", "5"]);
     assert_eq!(region(&l, "1").universe, 0);
     // Two unused universes and no 0: which is the root?
     let e = errors(
@@ -393,9 +378,8 @@ fn lattice_errors_are_located_and_reported_together() {
   <universes>6</universes>
 </lattice>"#,
     );
-    let got: Vec<(usize, usize, &str)> = e.iter().map(|(l, c, m)| (*l, *c, m.as_str())).collect();
     assert_eq!(
-        got,
+        by_place(&e),
         [
             (
                 8,

@@ -19,9 +19,9 @@ pub struct Input {
 
 impl Input {
     /// Whether overlaps with air regions count. FLUKA and OpenMC have no
-    /// rule that air gives way (FLUKA's `VACUUM` regions and OpenMC's void
-    /// cells get air code 1 from the readers): for their inputs every
-    /// overlap counts.
+    /// rule that air gives way (FLUKA's `VACUUM` and `AIR` regions and
+    /// OpenMC's void cells get air code 1 from the readers): for their
+    /// inputs every overlap counts.
     pub fn strict_air(&self) -> bool {
         matches!(self.format, Format::Fluka | Format::OpenMc)
     }

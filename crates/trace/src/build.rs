@@ -208,35 +208,45 @@ fn everywhere(region: u32, first: u32) -> PreparedZone {
 /// Coincident faces of containers are computed with errors far below this
 /// (some 1e-16 of their size).
 pub(crate) fn default_tolerance(body_bounds: &[Aabb]) -> f64 {
-    let mut bounded: Vec<&Aabb> = body_bounds.iter().filter(|b| b.is_finite()).collect();
-    bounded.sort_by(|a, b| b.diagonal().total_cmp(&a.diagonal()));
+    let mut bounded: Vec<Aabb> = body_bounds
+        .iter()
+        .copied()
+        .filter(|b| b.is_finite())
+        .collect();
     let planes = body_bounds
         .iter()
         .filter(|b| !b.is_finite() && !b.is_empty())
         .filter_map(finite_sides)
         .fold(Aabb::EMPTY, |acc, b| acc.union(&b));
-    let rest = |from: usize| -> Aabb { bounded[from..].iter().fold(planes, |acc, b| acc.union(b)) };
+    let (inner, innermost_container) = without_containers(&mut bounded, planes);
+    let d = if inner.is_empty() || inner.diagonal() == 0.0 {
+        // Nothing but containers, or planes through one point: the
+        // innermost container, else a unit.
+        innermost_container.map_or(1.0, |b| b.diagonal())
+    } else {
+        inner.diagonal()
+    };
+    (1e-7 * d).max(1e-12)
+}
+
+/// The box of `boxes` (bounded) and `extra` less the containers around
+/// them: a box that holds all the others' and is more than twice their
+/// size (a FLUKA black hole, the void sphere around a detector), set
+/// aside in turn from the largest. Returns that box and the innermost
+/// container set aside, if any. Sorts `boxes`, largest first.
+pub(crate) fn without_containers(boxes: &mut [Aabb], extra: Aabb) -> (Aabb, Option<Aabb>) {
+    boxes.sort_by(|a, b| b.diagonal().total_cmp(&a.diagonal()));
+    let rest = |from: usize| boxes[from..].iter().fold(extra, |acc, b| acc.union(b));
     let mut first = 0;
-    while first + 1 < bounded.len() || (first < bounded.len() && !planes.is_empty()) {
+    while first + 1 < boxes.len() || (first < boxes.len() && !extra.is_empty()) {
         let inner = rest(first + 1);
-        let outer = bounded[first];
-        let holds = outer.union(&inner) == *outer;
-        if !(holds && outer.diagonal() > 2.0 * inner.diagonal()) {
+        let outer = boxes[first];
+        if !(outer.union(&inner) == outer && outer.diagonal() > 2.0 * inner.diagonal()) {
             break;
         }
         first += 1;
     }
-    let scale = rest(first);
-    let d = if scale.is_empty() || scale.diagonal() == 0.0 {
-        // Nothing but containers, or planes through one point: the
-        // innermost container, else a unit.
-        bounded
-            .get(first.saturating_sub(1))
-            .map_or(1.0, |b| b.diagonal())
-    } else {
-        scale.diagonal()
-    };
-    (1e-7 * d).max(1e-12)
+    (rest(first), first.checked_sub(1).map(|i| boxes[i]))
 }
 
 /// The finite sides of an unbounded box as a box: along each axis, its

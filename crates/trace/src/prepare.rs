@@ -1,7 +1,9 @@
 //! `prepare`: validate every body, build its ray-casting form, lay zones out
 //! in flat arrays and build the bounding volume hierarchies.
 
-use crate::build::{default_tolerance, in_space_order, permute, Layout, ZoneBuilder};
+use crate::build::{
+    default_tolerance, in_space_order, permute, without_containers, Layout, ZoneBuilder,
+};
 use crate::bvh::Bvh;
 use crate::fill::{FillBuilder, FillTracer};
 use crate::raster::RasterProxy;
@@ -271,6 +273,40 @@ impl Prepared {
     /// left out, so framing stays finite).
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// Bounds of region `r`'s zones in this universe (empty when it has
+    /// none here; infinite sides where a zone is unbounded).
+    pub fn region_bounds(&self, r: usize) -> Aabb {
+        self.zones
+            .iter()
+            .filter(|z| z.region as usize == r)
+            .fold(Aabb::EMPTY, |acc, z| acc.union(&z.bounds))
+    }
+
+    /// The box of what a view or a check should cover: the finite regions
+    /// that `keep` accepts (a reader's black holes left out), less the
+    /// containers around them (a region whose box holds all the others'
+    /// and is more than twice their size: the void sphere around a
+    /// detector). Empty when no kept region is finite.
+    pub fn interest_bounds(&self, keep: impl Fn(usize) -> bool) -> Aabb {
+        let mut per_region = vec![Aabb::EMPTY; self.region_count];
+        for z in &self.zones {
+            let r = z.region as usize;
+            if keep(r) {
+                per_region[r] = per_region[r].union(&z.bounds);
+            }
+        }
+        let mut finite: Vec<Aabb> = per_region
+            .into_iter()
+            .filter(|b| !b.is_empty() && b.is_finite())
+            .collect();
+        let (inner, innermost) = without_containers(&mut finite, Aabb::EMPTY);
+        if inner.is_empty() {
+            innermost.unwrap_or(Aabb::EMPTY)
+        } else {
+            inner
+        }
     }
 
     /// Bounds of the opaque regions' finite zones.

@@ -18,11 +18,12 @@ pub struct Input {
 }
 
 impl Input {
-    /// Whether overlaps with air regions count. FLUKA has no rule that air
-    /// gives way (its `VACUUM` and `AIR` regions get air code 1 from the reader): for
-    /// FLUKA inputs every overlap counts.
+    /// Whether overlaps with air regions count. FLUKA and OpenMC have no
+    /// rule that air gives way (FLUKA's `VACUUM` and `AIR` regions and
+    /// OpenMC's void cells get air code 1 from the readers): for their
+    /// inputs every overlap counts.
     pub fn strict_air(&self) -> bool {
-        self.format == Format::Fluka
+        matches!(self.format, Format::Fluka | Format::OpenMc)
     }
 }
 

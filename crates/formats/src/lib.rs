@@ -1,6 +1,7 @@
 //! Readers and writers: the native scene language (`.sv`), COMGEOM/GIFT
-//! fixed-column decks (`.cg`, v1/v4/v5) and FLUKA geometry (`.inp`); and a
-//! POV-Ray scene writer ([`pov`]).
+//! fixed-column decks (`.cg`, v1/v4/v5), FLUKA geometry (`.inp`) and OpenMC
+//! models (`geometry.xml`, `model.xml`); and a POV-Ray scene writer
+//! ([`pov`]).
 //!
 //! Every reader turns text into a [`Scene`] or into [`Diagnostics`] that
 //! name file, line and column; none of them panics on any input.
@@ -11,6 +12,7 @@ pub mod comgeom;
 pub mod diag;
 pub mod fluka;
 pub mod native;
+pub mod openmc;
 pub mod pov;
 pub mod script;
 mod text;
@@ -58,11 +60,16 @@ pub enum Format {
     Comgeom,
     /// A FLUKA input.
     Fluka,
+    /// An OpenMC model (`geometry.xml` and `materials.xml`, or `model.xml`).
+    OpenMc,
 }
 
 impl Format {
     /// Guess the format from the file name, then from the text.
     pub fn detect(path: &Path, text: &str) -> Format {
+        if openmc::is_openmc(path, text) {
+            return Format::OpenMc;
+        }
         match path
             .extension()
             .and_then(|e| e.to_str())
@@ -108,8 +115,12 @@ pub enum LoadError {
 }
 
 /// Read a scene, deck or FLUKA input, choosing the reader by
-/// [`Format::detect`].
+/// [`Format::detect`]; a folder is read as an OpenMC model
+/// ([`openmc::read_dir`]).
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
+    if path.is_dir() {
+        return openmc::read_dir(path, opts);
+    }
     let text = std::fs::read(path).map_err(|source| LoadError::Io {
         path: path.to_owned(),
         source,
@@ -129,5 +140,6 @@ pub fn load_source(
         Format::Comgeom => comgeom::read(src, opts).map_err(LoadError::Invalid),
         Format::Fluka => fluka::read(src, opts).map_err(LoadError::Invalid),
         Format::Native => native::read(src, opts).map_err(LoadError::Invalid),
+        Format::OpenMc => openmc::read(src, opts).map_err(LoadError::Invalid),
     }
 }

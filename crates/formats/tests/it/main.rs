@@ -1,6 +1,8 @@
 //! Integration tests of the readers and writers: COMGEOM decks, FLUKA
-//! inputs, the scene language and the POV-Ray writer.
+//! inputs, OpenMC models, the scene language and the POV-Ray writer.
 mod comgeom;
 mod fluka;
+mod mutation;
 mod native;
+mod openmc;
 mod pov;

@@ -162,13 +162,7 @@ fn region_names(l: &Loaded) -> Vec<&str> {
 fn errors(text: &str) -> Vec<(usize, usize, String)> {
     match read_text(text) {
         Ok(_) => panic!("expected errors for:\n{text}"),
-        Err(d) => d
-            .errors()
-            .map(|e| {
-                let (l, c) = e.line_col();
-                (l, c, e.message.clone())
-            })
-            .collect(),
+        Err(d) => crate::mutation::located(&d),
     }
 }
 

@@ -1,6 +1,7 @@
 //! Mutated and arbitrary inputs never panic; limits keep large inputs cheap.
 
 use super::*;
+use crate::mutation::{self, apply, Edit};
 
 /// Every input of the data sets, and a numbered one, for mutation.
 fn corpus() -> Vec<String> {
@@ -22,14 +23,6 @@ fn corpus() -> Vec<String> {
     texts
 }
 
-#[derive(Clone, Debug)]
-enum Edit {
-    Insert(usize, String),
-    Delete(usize, usize),
-    DuplicateLine(usize),
-    SwapLines(usize, usize),
-}
-
 fn edit() -> impl Strategy<Value = Edit> {
     let snippet = prop_oneof![
         Just("(".to_string()),
@@ -48,42 +41,7 @@ fn edit() -> impl Strategy<Value = Edit> {
         Just("é".to_string()),
         "[ -~]{0,8}",
     ];
-    prop_oneof![
-        (any::<usize>(), snippet).prop_map(|(p, s)| Edit::Insert(p, s)),
-        (any::<usize>(), 0usize..40).prop_map(|(p, n)| Edit::Delete(p, n)),
-        any::<usize>().prop_map(Edit::DuplicateLine),
-        (any::<usize>(), any::<usize>()).prop_map(|(a, b)| Edit::SwapLines(a, b)),
-    ]
-}
-
-fn apply(text: &str, edits: &[Edit]) -> String {
-    let mut chars: Vec<char> = text.chars().collect();
-    for e in edits {
-        match e {
-            Edit::Insert(p, s) => {
-                let at = p % (chars.len() + 1);
-                chars.splice(at..at, s.chars());
-            }
-            Edit::Delete(p, n) => {
-                let at = p % (chars.len() + 1);
-                let end = (at + n).min(chars.len());
-                chars.drain(at..end);
-            }
-            Edit::DuplicateLine(i) | Edit::SwapLines(i, _) => {
-                let s: String = chars.iter().collect();
-                let mut lines: Vec<&str> = s.split('\n').collect();
-                let a = i % lines.len();
-                if let Edit::SwapLines(_, j) = e {
-                    let b = j % lines.len();
-                    lines.swap(a, b);
-                } else {
-                    lines.insert(a, lines[a]);
-                }
-                chars = lines.join("\n").chars().collect();
-            }
-        }
-    }
-    chars.into_iter().collect()
+    mutation::edit(snippet)
 }
 
 proptest! {

@@ -2,5 +2,6 @@
 //! inputs, the scene language and the POV-Ray writer.
 mod comgeom;
 mod fluka;
+mod mcnp;
 mod native;
 mod pov;

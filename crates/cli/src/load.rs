@@ -18,11 +18,11 @@ pub struct Input {
 }
 
 impl Input {
-    /// Whether overlaps with air regions count. FLUKA has no rule that air
-    /// gives way (its `VACUUM` regions get air code 1 from the reader): for
-    /// FLUKA inputs every overlap counts.
+    /// Whether overlaps with air regions count. FLUKA and MCNP have no rule
+    /// that air gives way (their readers give `VACUUM` regions and void
+    /// cells air code 1): for their inputs every overlap counts.
     pub fn strict_air(&self) -> bool {
-        self.format == Format::Fluka
+        matches!(self.format, Format::Fluka | Format::Mcnp)
     }
 }
 

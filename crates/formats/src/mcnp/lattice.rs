@@ -3,6 +3,7 @@
 
 use super::cell::{Factor, SurfaceRef, Union};
 use super::params::{FillSpec, Filler, Transform};
+use super::region::all_space;
 use super::{Frame, Reader, UNBOUNDED};
 use std::collections::HashMap;
 use sv_geom::{Body, BodyKind, Fill, Lattice, LatticeKind, Region, Universe, Zone};
@@ -69,6 +70,25 @@ fn pair(planes: &[(DVec3, f64)], k: usize) -> Result<(DVec3, f64, f64), String> 
     Ok((n, d, e))
 }
 
+/// The pair of planes ending the cell along its axis (planes `k` and `k +
+/// 1`), or when there are none, planes [`UNBOUNDED`] apart across the two
+/// normals `n0` and `n1`.
+fn axial(
+    planes: &[(DVec3, f64)],
+    k: usize,
+    n0: DVec3,
+    n1: DVec3,
+) -> Result<(DVec3, f64, f64), String> {
+    if planes.len() > k {
+        return pair(planes, k);
+    }
+    let n = n0
+        .cross(n1)
+        .try_normalize()
+        .ok_or("the cell's planes do not close a cell")?;
+    Ok((n, UNBOUNDED / 2.0, -UNBOUNDED / 2.0))
+}
+
 /// Solve `rows · x = rhs`, the rows independent.
 fn solve(rows: [DVec3; 3], rhs: DVec3) -> Result<DVec3, String> {
     let m = DMat3::from_cols(rows[0], rows[1], rows[2]).transpose();
@@ -88,15 +108,7 @@ pub(super) fn cell_box(
         LatticeKind::Rectangular => {
             let (n0, d0, e0) = pair(planes, 0)?;
             let (n1, d1, e1) = pair(planes, 2)?;
-            let (n2, d2, e2) = if planes.len() == 6 {
-                pair(planes, 4)?
-            } else {
-                let n = n0
-                    .cross(n1)
-                    .try_normalize()
-                    .ok_or("the cell's planes do not close a cell")?;
-                (n, UNBOUNDED / 2.0, -UNBOUNDED / 2.0)
-            };
+            let (n2, d2, e2) = axial(planes, 4, n0, n1)?;
             let rows = [n0, n1, n2];
             let steps = [
                 solve(rows, DVec3::new(d0 - e0, 0.0, 0.0))?,
@@ -116,15 +128,7 @@ pub(super) fn cell_box(
             {
                 return Err("the first four surfaces of a LAT=2 cell must face elements 60° apart at one pitch (MCNP's order: [1,0,0], [-1,0,0], [0,1,0], [0,-1,0], [-1,1,0], [1,-1,0], [0,0,1], [0,0,-1])".into());
             }
-            let (n2, d2, e2) = if planes.len() == 8 {
-                pair(planes, 6)?
-            } else {
-                let n = n0
-                    .cross(n1)
-                    .try_normalize()
-                    .ok_or("the cell's planes do not close a cell")?;
-                (n, UNBOUNDED / 2.0, -UNBOUNDED / 2.0)
-            };
+            let (n2, d2, e2) = axial(planes, 6, n0, n1)?;
             if n2.dot(n0).abs() > TOLERANCE || n2.dot(n1).abs() > TOLERANCE {
                 return Err("the ends of a LAT=2 cell must be at right angles to its sides".into());
             }
@@ -132,6 +136,16 @@ pub(super) fn cell_box(
             Ok(([a, b, n2 * (d2 - e2)], base))
         }
     }
+}
+
+/// What the elements of one lattice cell share.
+struct Owner {
+    /// The lattice's own universe number.
+    universe: i64,
+    /// The lattice cell's number.
+    cell: i64,
+    /// All space, for the universes made to hold moved ones.
+    space: Vec<Zone>,
 }
 
 impl Reader {
@@ -270,10 +284,16 @@ impl Reader {
                 )
             }
         };
+        let written = self.cell_zones(i, 0)?;
+        let owner = Owner {
+            universe: own,
+            cell: c.number,
+            space: all_space(&written),
+        };
         let mut made: HashMap<String, usize> = HashMap::new();
         let mut elements = Vec::with_capacity(fillers.len());
         for f in fillers {
-            elements.push(self.element(f, own, c.number, index, universes, wrappers, &mut made)?);
+            elements.push(self.element(f, &owner, index, universes, wrappers, &mut made)?);
         }
         Some(Fill::Lattice(Lattice {
             kind,
@@ -291,18 +311,17 @@ impl Reader {
     /// The universe of one element: `None` for the lattice's own universe
     /// or 0 (the cell's material), a universe made to hold a moved one when
     /// the element has a transformation.
-    #[allow(clippy::too_many_arguments)]
     fn element(
         &mut self,
         f: &Filler,
-        own: i64,
-        cell: i64,
+        owner: &Owner,
         index: &HashMap<i64, usize>,
         universes: &mut Vec<Universe>,
         wrappers: &mut Vec<(Region, RegionProps)>,
         made: &mut HashMap<String, usize>,
     ) -> Option<Option<usize>> {
-        if f.universe == own || f.universe == 0 {
+        let cell = owner.cell;
+        if f.universe == owner.universe || f.universe == 0 {
             return Some(None);
         }
         // An undefined universe is reported with the fills.
@@ -335,7 +354,7 @@ impl Reader {
         universes.push(Universe { name: key.clone() });
         let region = Region {
             name: format!("{cell}:{key}"),
-            zones: vec![Zone::default()],
+            zones: owner.space.clone(),
             universe: w,
             fill: Some(Fill::Universe {
                 universe: u,

@@ -184,9 +184,9 @@ impl Reader {
 
     /// The body `b` moved into a cell's frame (named as MCNP names the
     /// surfaces a `TRCL` makes: 1000 × cell + surface).
-    fn moved_body(&mut self, b: usize, frame: Frame) -> usize {
+    fn moved_body(&mut self, b: usize, frame: Frame, at: Loc) -> Option<usize> {
         if let Some(&m) = self.moved.get(&(b, frame.cell)) {
-            return m;
+            return Some(m);
         }
         let body = &self.bodies[b];
         let digits = body.name.chars().take_while(|c| c.is_ascii_digit()).count();
@@ -198,12 +198,23 @@ impl Reader {
             format!("{number}{suffix}@{}", frame.cell)
         };
         // A frame's transformation is a rotation and a translation, which
-        // every body takes.
-        let mut moved = body.transformed(&frame.xf).unwrap_or_else(|_| body.clone());
+        // every body takes; only values out of range can fail.
+        let moved = body
+            .transformed(&frame.xf)
+            .ok()
+            .filter(|m| m.params.iter().all(|v| v.is_finite()));
+        let Some(mut moved) = moved else {
+            let cell = frame.cell;
+            self.log.error(
+                at,
+                format!("this surface moved by the TRCL of cell {cell} has values out of range"),
+            );
+            return None;
+        };
         moved.name = name;
         self.moved.insert((b, frame.cell), self.bodies.len());
         self.bodies.push(moved);
-        self.bodies.len() - 1
+        Some(self.bodies.len() - 1)
     }
 
     /// The negative side of a surface named in a cell, in the cell's
@@ -230,16 +241,16 @@ impl Reader {
             None => self.sides[s].clone()?,
             Some(k) => self.facet_terms(s, k, r.at)?,
         };
-        Some(match frame {
-            None => terms,
+        match frame {
+            None => Some(terms),
             Some(f) => terms
                 .into_iter()
-                .map(|t| Term {
-                    op: t.op,
-                    body: self.moved_body(t.body, f),
+                .map(|t| {
+                    let body = self.moved_body(t.body, f, r.at)?;
+                    Some(Term { op: t.op, body })
                 })
                 .collect(),
-        })
+        }
     }
 
     /// Surface 1000 c + s: surface s moved by cell c's `TRCL`.

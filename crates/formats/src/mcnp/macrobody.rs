@@ -17,7 +17,7 @@
 //! | `WED` | 1: the slanted face, 2: the face holding the second leg and the height, 3: the face holding the first leg and the height, 4 the top, 5 the base |
 //! | `ARB` | k: the face of the k-th vertex code |
 
-use super::surface::{cylinder, double_cone, quadric, Part};
+use super::surface::{cylinder, double_cone, placed, Part};
 use sv_geom::{BodyKind, Op};
 use sv_math::{orthonormal_basis, DMat3, DQuat, DVec3};
 
@@ -144,14 +144,23 @@ fn end_or_side(m: &str, v: &[f64], k: usize) -> Result<Vec<Part>, String> {
         "rcc" => Ok(vec![axis_cylinder(base, h, v[6])]),
         "rec" => {
             let (a, b) = rec_axes(v)?;
-            // (d·a)²/|a|⁴ + (d·b)²/|b|⁴ < 1 for d = p − base.
-            let (ua, ub) = (a / a.length_squared(), b / b.length_squared());
-            let mm = DMat3::from_cols(ua * ua.x, ua * ua.y, ua * ua.z)
-                + DMat3::from_cols(ub * ub.x, ub * ub.y, ub * ub.z);
-            Ok(vec![side(
-                BodyKind::Qua,
-                quadric(mm, -(mm * base), base.dot(mm * base) - 1.0),
-            )])
+            // (x/|a|)² + (y/|b|)² < 1 in the frame of the axes.
+            let uh = h.normalize();
+            let ua = (a - uh * a.dot(uh)).normalize();
+            let local = [
+                1.0 / a.length_squared(),
+                1.0 / b.length_squared(),
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                -1.0,
+            ];
+            let quadric = placed(local, DMat3::from_cols(ua, uh.cross(ua), uh), base);
+            Ok(vec![side(BodyKind::Qua, quadric)])
         }
         _ => {
             let (r1, r2) = (v[6], v[7]);

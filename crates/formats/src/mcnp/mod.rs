@@ -21,13 +21,17 @@
 //!   cell's surfaces, and its fill with them. `LIKE n BUT` copies cell n
 //!   and changes what it names.
 //! * a lattice cell (`LAT=1` hexahedra, `LAT=2` hexagonal prisms) covers
-//!   all of its universe; its surfaces, in the order MCNP reads them, give
+//!   all of its universe (its region is the inside and the outside of its
+//!   first surface, together); its surfaces, in the order MCNP reads them, give
 //!   element (0,0,0) and the steps to the next elements: across the first
 //!   surface is element (1,0,0), across the third (0,1,0), across the fifth
 //!   (0,0,1) (the seventh for `LAT=2`, whose fifth and sixth lead to
 //!   (−1,1,0) and (1,−1,0)). The universe of element (i,j,k) is moved by
 //!   i a + j b + k c. A lattice given by four (six for `LAT=2`) surfaces
-//!   is unbounded along its axis: its one layer is [`UNBOUNDED`] thick.
+//!   is unbounded along its axis: its one layer is [`UNBOUNDED`] thick. An
+//!   element's own transformation (`u(tr)` in a fill array) makes a
+//!   universe of one region holding universe u moved, named after the
+//!   lattice cell and the element's fill (`10:2(TR3)`).
 //! * a cell of zero neutron importance is the outside of the model
 //!   ([`RegionProps::outside`](sv_scene::RegionProps::outside)); a void
 //!   cell that nothing fills is air (air code 1, transparent).
@@ -42,7 +46,8 @@
 //! undefined surface, cell, universe or transformation, a cell complementing
 //! itself through `#`, universes filling each other, a lattice fill of the
 //! wrong size. No input makes the reader panic, hang or allocate without
-//! bound.
+//! bound: shorthand, fill arrays, `#` complements copied in and nesting
+//! ([`MAX_DEPTH`]) all have limits.
 //!
 //! ```
 //! use sv_formats::{mcnp, LoadOptions, SourceFile};
@@ -186,16 +191,8 @@ impl Log {
             (file, d.offset)
         });
         if self.suppressed > 0 {
-            let last = self.errors.last().cloned().unwrap_or(self.sink);
-            self.errors.push(Diagnostic {
-                message: format!(
-                    "… and {}",
-                    count(self.suppressed, "more error", "more errors")
-                ),
-                hint: None,
-                unlisted_errors: self.suppressed,
-                ..last
-            });
+            let last = self.errors.last().unwrap_or(&self.sink);
+            self.errors.push(last.unlisted(self.suppressed));
         }
         Diagnostics { items: self.errors }
     }

@@ -6,9 +6,27 @@ use super::lower::State;
 use super::params::{FillSpec, Params};
 use super::{Frame, Loc, Reader};
 use std::collections::HashMap;
-use sv_geom::{Fill, Geometry, Region, Universe, Zone};
+use sv_geom::{Fill, Geometry, Op, Region, Term, Universe, Zone};
 use sv_math::DAffine3;
 use sv_scene::{RegionProps, Scene, Units};
+
+/// All space, as the union of the inside and the outside of the first body
+/// `zones` name (a zone must name something): what a lattice cell covers
+/// in its universe, and a universe made to hold a moved one.
+pub(super) fn all_space(zones: &[Zone]) -> Vec<Zone> {
+    let mut first = None;
+    for z in zones {
+        z.for_each_term(&mut |t| {
+            first.get_or_insert(t.body);
+        });
+    }
+    match first {
+        Some(body) => [Op::Inside, Op::Outside]
+            .map(|op| Zone::new(vec![Term { op, body }]))
+            .to_vec(),
+        None => vec![Zone::default()],
+    }
+}
 
 /// `b`'s parameters where `a` gives none.
 fn merged(a: &Params, b: &Params) -> Params {
@@ -236,8 +254,7 @@ impl Reader {
                     );
                     continue;
                 }
-                // The lattice covers all of its universe.
-                region.zones = vec![Zone::default()];
+                region.zones = all_space(&region.zones);
                 region.fill = self.lattice(i, frame, &index, &mut universes, &mut wrappers);
             } else if let Some(fill) = &c.params.fill {
                 region.fill = match &fill.spec {

@@ -16,8 +16,8 @@ use super::input::Card;
 use super::number::{integer, Expander};
 use super::{Loc, Log};
 use crate::did_you_mean;
-use sv_geom::{BodyKind, Op};
-use sv_math::{DMat3, DVec3};
+use sv_geom::{Body, BodyKind, Op};
+use sv_math::{orthonormal_basis, DAffine3, DMat3, DVec3};
 
 /// What a surface number's prefix says about its boundary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -224,43 +224,40 @@ pub(crate) fn read(card: &Card, log: &mut Log) -> Option<SurfaceCard> {
     Some(surface)
 }
 
-/// `x·M x + 2 b·x + c` as QUA values.
-pub(crate) fn quadric(m: DMat3, b: DVec3, c: f64) -> Vec<f64> {
-    vec![
-        m.x_axis.x,
-        m.y_axis.y,
-        m.z_axis.z,
-        2.0 * m.x_axis.y,
-        2.0 * m.x_axis.z,
-        2.0 * m.y_axis.z,
-        2.0 * b.x,
-        2.0 * b.y,
-        2.0 * b.z,
-        c,
-    ]
+/// The QUA values of the quadric whose values are `local` in a frame with
+/// its z axis along `axis` and its origin at `at`, moved into place as
+/// sv-geom moves bodies.
+fn about_axis(local: [f64; 10], axis: DVec3, at: DVec3) -> Vec<f64> {
+    let n = axis.normalize();
+    let (u, w) = orthonormal_basis(n);
+    placed(local, DMat3::from_cols(u, w, n), at)
 }
 
-/// The quadric `(p−v)·M(p−v) + c`.
-fn centred(m: DMat3, v: DVec3, c: f64) -> Vec<f64> {
-    quadric(m, -(m * v), v.dot(m * v) + c)
+/// The QUA values `local` in the frame whose axes are the columns of the
+/// rotation `frame`, at origin `at`.
+pub(crate) fn placed(local: [f64; 10], frame: DMat3, at: DVec3) -> Vec<f64> {
+    let quadric = Body::new("", BodyKind::Qua, local.to_vec());
+    let xf = DAffine3::from_mat3_translation(frame, at);
+    // A rotation and a translation are what every body takes.
+    quadric
+        .transformed(&xf)
+        .map_or_else(|_| local.to_vec(), |b| b.params)
 }
 
 /// The infinite cylinder of radius `r` about the line through `v` along
 /// `axis`.
 pub(crate) fn cylinder(v: DVec3, axis: DVec3, r: f64) -> Vec<f64> {
-    let u = axis.normalize();
-    centred(DMat3::IDENTITY - outer(u), v, -r * r)
+    about_axis(
+        [1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -r * r],
+        axis,
+        v,
+    )
 }
 
 /// The double cone with apex `v`, axis `axis` and `t²` the square of the
 /// tangent of its half-angle.
 pub(crate) fn double_cone(v: DVec3, axis: DVec3, t2: f64) -> Vec<f64> {
-    let u = axis.normalize();
-    centred(DMat3::IDENTITY - outer(u) * (1.0 + t2), v, 0.0)
-}
-
-fn outer(u: DVec3) -> DMat3 {
-    DMat3::from_cols(u * u.x, u * u.y, u * u.z)
+    about_axis([1.0, 1.0, -t2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], axis, v)
 }
 
 /// The half-space on the `side` of the plane through `apex` normal to
@@ -330,14 +327,16 @@ pub(crate) fn parts(m: &str, v: &[f64]) -> Result<Vec<Part>, String> {
         "k/x" | "k/y" | "k/z" => cone(a, DVec3::new(v[0], v[1], v[2]), v[3], v.get(4).copied()),
         "kx" | "ky" | "kz" => cone(a, on_axis(v[0]), v[1], v.get(2).copied()),
         "sq" => {
-            let c = DVec3::new(v[7], v[8], v[9]);
-            let m = DMat3::from_diagonal(DVec3::new(v[0], v[1], v[2]));
-            let d = DVec3::new(v[3], v[4], v[5]);
-            // A(x−x̄)² + … + 2D(x−x̄) + … + G.
-            one(
-                BodyKind::Qua,
-                quadric(m, d - m * c, c.dot(m * c) - 2.0 * d.dot(c) + v[6]),
-            )
+            // A(x−x̄)² + … + 2D(x−x̄) + … + G, expanded.
+            let (sq, lin, c) = (&v[0..3], &v[3..6], &v[7..10]);
+            let mut q = [0.0; 10];
+            q[..3].copy_from_slice(sq);
+            for i in 0..3 {
+                q[6 + i] = 2.0 * (lin[i] - sq[i] * c[i]);
+                q[9] += sq[i] * c[i] * c[i] - 2.0 * lin[i] * c[i];
+            }
+            q[9] += v[6];
+            one(BodyKind::Qua, q.to_vec())
         }
         "gq" => one(
             BodyKind::Qua,
@@ -449,14 +448,11 @@ fn by_points(a: usize, v: &[f64]) -> Result<Vec<Part>, String> {
                 DVec3::ONE,
             );
             let k = m.inverse() * DVec3::new(v[1] * v[1], v[3] * v[3], v[5] * v[5]);
-            let mut diag = DVec3::ONE;
-            diag[a] = -k.x;
-            let mut lin = DVec3::ZERO;
-            lin[a] = -k.y / 2.0;
-            Ok(vec![Part::body(
-                BodyKind::Qua,
-                quadric(DMat3::from_diagonal(diag), lin, -k.z),
-            )])
+            // The distance² from the axis less p x² + q x + s.
+            let mut q = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -k.z];
+            q[a] = -k.x;
+            q[6 + a] = -k.y;
+            Ok(vec![Part::body(BodyKind::Qua, q.to_vec())])
         }
     }
 }
@@ -464,11 +460,14 @@ fn by_points(a: usize, v: &[f64]) -> Result<Vec<Part>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sv_geom::quadric_matrix;
 
+    /// The QUA polynomial `Axx x² + Ayy y² + Azz z² + Axy xy + Axz xz + Ayz yz
+    /// + Ax x + Ay y + Az z + A0` at `p`, term by term.
     fn value(q: &[f64], p: DVec3) -> f64 {
-        let (m, b, c) = quadric_matrix(q);
-        p.dot(m * p) + 2.0 * b.dot(p) + c
+        let (x, y, z) = (p.x, p.y, p.z);
+        let squares = q[0] * x * x + q[1] * y * y + q[2] * z * z;
+        let crossed = q[3] * x * y + q[4] * x * z + q[5] * y * z;
+        squares + crossed + q[6] * x + q[7] * y + q[8] * z + q[9]
     }
 
     #[test]

@@ -261,6 +261,17 @@ fn importance_materials_and_densities() {
 }
 
 #[test]
+fn zero_importance_for_neutrons_or_for_the_one_particle_given() {
+    let l = load(&deck(
+        "1 0 -1 imp:n,p=1\n2 0 1 -2 imp:p=0\n3 0 2 -3 imp:n=1 imp:p=0\n4 0 3 imp:n,p=0",
+        "1 so 1\n2 so 2\n3 so 3",
+        "",
+    ));
+    let outside: Vec<bool> = l.scene.regions.iter().map(|r| r.outside).collect();
+    assert_eq!(outside, [false, true, false, true]);
+}
+
+#[test]
 fn cell_parameters_as_data_cards() {
     let l = load(&deck(
         "1 0 -1\n2 0 1 -2\n3 0 2\n4 1 -1 -3\n5 0 3",

@@ -119,26 +119,35 @@ fn lattice_and_fill_errors() {
             "",
         ))
     };
-    assert_eq!(
-        lattice("-1 2 -3 4", "3")[0].2,
-        "LAT must be 1 (hexahedra) or 2 (hexagonal prisms), not 3"
-    );
-    assert_eq!(
-        lattice("-1 2 -3 -5", "1")[0].2,
-        "surface 5 of lattice cell 10 is not a plane"
-    );
-    assert_eq!(
-        lattice("-1 2 -3", "1")[0].2,
-        "a LAT=1 cell is bounded by 4 or 6 planes, not 3 (cell 10)"
-    );
-    assert_eq!(
-        lattice("-1 2 -3 6", "1")[0].2,
-        "lattice cell 10: surfaces 3 and 4 of the cell are not parallel"
-    );
-    assert_eq!(
-        lattice("-1 2 -3 4 : 6", "1")[0].2,
-        "lattice cell 10 must be an intersection of planes, written in MCNP's order"
-    );
+    for (planes, lat, msg) in [
+        (
+            "-1 2 -3 4",
+            "3",
+            "LAT must be 1 (hexahedra) or 2 (hexagonal prisms), not 3",
+        ),
+        (
+            "-1 2 -3 -5",
+            "1",
+            "surface 5 of lattice cell 10 is not a plane",
+        ),
+        (
+            "-1 2 -3",
+            "1",
+            "a LAT=1 cell is bounded by 4 or 6 planes, not 3 (cell 10)",
+        ),
+        (
+            "-1 2 -3 6",
+            "1",
+            "lattice cell 10: surfaces 3 and 4 of the cell are not parallel",
+        ),
+        (
+            "-1 2 -3 4 : 6",
+            "1",
+            "lattice cell 10 must be an intersection of planes, written in MCNP's order",
+        ),
+    ] {
+        assert_eq!(lattice(planes, lat)[0].2, msg, "{planes}");
+    }
     let e = errors(&deck("1 0 -1 fill=4\n2 0 1 imp:n=0", "1 so 1", ""));
     assert_eq!(
         e,

@@ -37,34 +37,31 @@ fn deck(cells: &str, surfaces: &str, data: &str) -> String {
 
 /// (line, column, message) of every error.
 fn errors(text: &str) -> Vec<(usize, usize, String)> {
-    match read_text(text) {
-        Ok(_) => panic!("expected errors for:\n{text}"),
-        Err(d) => d
-            .errors()
-            .map(|e| {
-                let (l, c) = e.line_col();
-                (l, c, e.message.clone())
-            })
-            .collect(),
-    }
+    let Err(report) = read_text(text) else {
+        panic!("expected errors for:\n{text}");
+    };
+    let located = |e: &sv_formats::Diagnostic| (e.line_col(), e.message.clone());
+    report
+        .errors()
+        .map(located)
+        .map(|((line, col), msg)| (line, col, msg))
+        .collect()
 }
 
 fn body<'a>(l: &'a Loaded, name: &str) -> &'a Body {
-    l.scene
-        .geometry
-        .bodies
-        .iter()
-        .find(|b| b.name == name)
-        .unwrap_or_else(|| panic!("no body {name}"))
+    let g = &l.scene.geometry;
+    let Some(i) = g.body_index(name) else {
+        panic!("no body {name}");
+    };
+    &g.bodies[i]
 }
 
 fn region<'a>(l: &'a Loaded, name: &str) -> &'a Region {
-    l.scene
-        .geometry
-        .regions
-        .iter()
-        .find(|r| r.name == name)
-        .unwrap_or_else(|| panic!("no region {name}"))
+    let g = &l.scene.geometry;
+    let Some(i) = g.region_index(name) else {
+        panic!("no region {name}");
+    };
+    &g.regions[i]
 }
 
 /// A region's expression with body names, as `Region::expression` writes
@@ -79,11 +76,7 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 }
 
 fn assert_close(got: &[f64], want: &[f64]) {
-    assert_eq!(got.len(), want.len(), "got {got:?}, want {want:?}");
-    for (g, w) in got.iter().zip(want) {
-        assert!(
-            (g - w).abs() < 1e-9 * (1.0 + w.abs()),
-            "got {got:?}, want {want:?}"
-        );
-    }
+    let near = |(g, w): (&f64, &f64)| (g - w).abs() < 1e-9 * (1.0 + w.abs());
+    let same = got.len() == want.len() && got.iter().zip(want).all(near);
+    assert!(same, "got {got:?}, want {want:?}");
 }

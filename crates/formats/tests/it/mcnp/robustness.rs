@@ -94,7 +94,18 @@ fn mutate(text: &str, cuts: &[(usize, u8, usize)]) -> String {
 
 fn never_panics(text: String) -> Result<(), TestCaseError> {
     match read_text(&text) {
-        Ok(l) => prop_assert_eq!(l.scene.geometry.regions.len(), l.scene.regions.len()),
+        Ok(l) => {
+            prop_assert_eq!(l.scene.geometry.regions.len(), l.scene.regions.len());
+            for b in &l.scene.geometry.bodies {
+                let prepared = sv_geom::prepare(b, &mut Vec::new());
+                prop_assert!(
+                    prepared.is_ok(),
+                    "body {} does not prepare: {:?}",
+                    b.name,
+                    prepared.err()
+                );
+            }
+        }
         Err(d) => {
             prop_assert!(d.has_errors());
             for e in &d.items {
@@ -105,13 +116,14 @@ fn never_panics(text: String) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Cases per property: 400, or `PROPTEST_CASES`.
+fn cases() -> u32 {
+    let asked = std::env::var("PROPTEST_CASES").ok();
+    asked.and_then(|v| v.parse().ok()).unwrap_or(400)
+}
+
 proptest! {
-    // 400 cases by default; PROPTEST_CASES=N runs more.
-    #![proptest_config(ProptestConfig {
-        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(400),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::with_cases(cases()) })]
 
     #[test]
     fn mutated_inputs_never_panic(pick in any::<usize>(), cuts in prop::collection::vec((any::<usize>(), any::<u8>(), any::<usize>()), 1..10)) {

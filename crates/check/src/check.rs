@@ -364,7 +364,6 @@ fn sort_findings(model: &Model, found: HashMap<FindingKind, Acc>, strict_air: bo
         volume: acc.weighted / 3.0,
     };
     let name = |region: u32| model.names[region as usize].clone();
-    let is_air = |region: u32| model.air.get(region as usize).copied().unwrap_or(false);
     let mut sorted = Sorted {
         overlaps: Vec::new(),
         air_overlaps: Vec::new(),
@@ -376,7 +375,7 @@ fn sort_findings(model: &Model, found: HashMap<FindingKind, Acc>, strict_air: bo
     for (kind, acc) in &entries {
         match *kind {
             FindingKind::Overlap(first, second) => {
-                let air = is_air(first) || is_air(second);
+                let air = model.is_air_overlap(first as usize, second as usize);
                 let overlap = Overlap {
                     regions: [name(first), name(second)],
                     region_indices: [first as usize, second as usize],

@@ -70,8 +70,11 @@ pub struct Model {
     pub universe_note: Option<String>,
     /// Densities (g/cm³) by region, when known.
     pub densities: Vec<Option<f64>>,
-    /// Air regions (non-zero COMGEOM air code), by index.
-    pub air: Vec<bool>,
+    /// COMGEOM air codes by region (0: not air).
+    pub air: Vec<i64>,
+    /// Regions beyond the model (FLUKA black holes, MCNP cells of
+    /// importance zero), by index: never counted as unsampled.
+    pub outside: Vec<bool>,
     /// Region descriptions (the deck's comment column), by index.
     pub descriptions: Vec<String>,
     /// Centimetres per model unit.
@@ -220,7 +223,10 @@ impl Model {
                     })
                     .collect(),
                 air: (0..geometry.regions.len())
-                    .map(|region| scene.regions.get(region).is_some_and(|r| r.air != 0))
+                    .map(|region| scene.regions.get(region).map_or(0, |r| r.air))
+                    .collect(),
+                outside: (0..geometry.regions.len())
+                    .map(|region| scene.regions.get(region).is_some_and(|r| r.outside))
                     .collect(),
                 cm_per_unit: scene.units.mm() / 10.0,
                 unit: scene.units.abbrev().to_string(),
@@ -251,6 +257,21 @@ impl Model {
     /// (so unbounded regions are measured inside the model's box).
     pub fn region_bounds(&self, r: usize) -> Aabb {
         self.region_bounds[r].intersection(&self.box_)
+    }
+
+    /// True when an overlap of regions `a` and `b` is one with air, which
+    /// GIFT and BRL-CAD let a solid win: one of them is air and the other
+    /// not, or both are air of the same code. Two airs of different codes
+    /// overlapping is a real overlap.
+    pub fn is_air_overlap(&self, a: usize, b: usize) -> bool {
+        let code = |r: usize| self.air.get(r).copied().unwrap_or(0);
+        let (x, y) = (code(a), code(b));
+        (x != 0 || y != 0) && (x == 0 || y == 0 || x == y)
+    }
+
+    /// True when region `r` is air (a non-zero air code).
+    pub fn is_air(&self, r: usize) -> bool {
+        self.air.get(r).is_some_and(|&code| code != 0)
     }
 
     /// True when region `r` reaches outside [`Model::bounds`].

@@ -97,7 +97,6 @@ where
     F: Fn(u32, u32) -> Ray + Sync,
 {
     let (columns, rows) = (width as usize, height as usize);
-    let air = |region: u32| model.air.get(region as usize).copied().unwrap_or(false);
     /// A row's mask, and per pair its pixels and longest stretch.
     type Row = (Vec<bool>, BTreeMap<(u32, u32), (u64, f64)>);
     let row_results: Vec<Row> = (0..rows)
@@ -113,7 +112,7 @@ where
                     let mut pairs: Vec<((u32, u32), f64)> = Vec::new();
                     for finding in &ray_check.findings {
                         if let FindingKind::Overlap(a, b) = finding.kind {
-                            if strict_air || !(air(a) || air(b)) {
+                            if strict_air || !model.is_air_overlap(a as usize, b as usize) {
                                 pairs.push(((a, b), finding.t1 - finding.t0));
                             }
                         }

@@ -338,7 +338,7 @@ fn classify(model: &Model, opts: &SliceOptions, view: &View, tolerance: f64) -> 
     let (dx, dy) = view.pixel();
     let pad = 0.01 * extent_w + dx;
     let width = view.width;
-    let air = |region: u32| model.air.get(region as usize).copied().unwrap_or(false);
+    let air = |region: u32| model.is_air(region as usize);
     let rows: Vec<Classes> = (0..view.height)
         .into_par_iter()
         .map_init(
@@ -366,7 +366,9 @@ fn classify(model: &Model, opts: &SliceOptions, view: &View, tolerance: f64) -> 
                 let mut pairs = BTreeMap::new();
                 for finding in &ray_check.findings {
                     let code = match finding.kind {
-                        FindingKind::Overlap(a, b) if !opts.strict_air && (air(a) || air(b)) => {
+                        FindingKind::Overlap(a, b)
+                            if !opts.strict_air && model.is_air_overlap(a as usize, b as usize) =>
+                        {
                             // Air gives way: the solid region is drawn (two
                             // air regions: the first claim stays).
                             if air(a) != air(b) {

@@ -19,8 +19,9 @@ pub struct Input {
 
 impl Input {
     /// Whether overlaps with air regions count. FLUKA and MCNP have no rule
-    /// that air gives way (their readers give `VACUUM` regions and void
-    /// cells air code 1): for their inputs every overlap counts.
+    /// that air gives way (their readers give FLUKA's `VACUUM` and `AIR`
+    /// regions and MCNP's void cells air code 1): for their inputs every
+    /// overlap counts.
     pub fn strict_air(&self) -> bool {
         matches!(self.format, Format::Fluka | Format::Mcnp)
     }

@@ -211,12 +211,12 @@ impl BodyOwners {
 }
 
 fn region_bodies(geo: &Geometry, r: usize) -> Vec<usize> {
-    let mut v: Vec<usize> = geo.regions[r]
-        .zones
-        .iter()
-        .flat_map(|z| z.terms.iter().map(|t| t.body))
-        .filter(|&b| b < geo.bodies.len())
-        .collect();
+    let mut v = Vec::new();
+    geo.regions[r].for_each_term(&mut |t| {
+        if t.body < geo.bodies.len() {
+            v.push(t.body);
+        }
+    });
     v.sort_unstable();
     v.dedup();
     v

@@ -65,11 +65,7 @@ pub fn write(scene: &Scene, width: u32, height: u32) -> Result<String, String> {
     // once are written in place, the others are declared once.
     let mut uses = vec![0usize; g.bodies.len()];
     for &r in &opaque {
-        for z in &g.regions[r].zones {
-            for t in &z.terms {
-                uses[t.body] += 1;
-            }
-        }
+        g.regions[r].for_each_term(&mut |t| uses[t.body] += 1);
     }
 
     let mut bodies: Vec<Option<String>> = vec![None; g.bodies.len()];
@@ -276,20 +272,26 @@ fn header(s: &mut String, scene: &Scene, width: u32, height: u32) {
     );
 }
 
-/// One zone: `+` bodies intersected, `-` bodies taken away.
+/// One zone: `+` bodies and groups intersected, `-` ones taken away (a
+/// group is the union of its zones).
 fn zone(z: &Zone, body_ref: &dyn Fn(usize) -> String) -> String {
-    let plus: Vec<String> = z
-        .terms
-        .iter()
-        .filter(|t| t.op == Op::Inside)
-        .map(|t| body_ref(t.body))
-        .collect();
-    let minus: Vec<String> = z
-        .terms
-        .iter()
-        .filter(|t| t.op == Op::Outside)
-        .map(|t| body_ref(t.body))
-        .collect();
+    let side = |op: Op| -> Vec<String> {
+        let bodies = z
+            .terms
+            .iter()
+            .filter(|t| t.op == op)
+            .map(|t| body_ref(t.body));
+        let groups = z.groups.iter().filter(|g| g.op == op).map(|g| {
+            let inner: Vec<String> = g.zones.iter().map(|z| zone(z, body_ref)).collect();
+            if inner.len() == 1 {
+                inner[0].clone()
+            } else {
+                format!("union {{ {} }}", inner.join(" "))
+            }
+        });
+        bodies.chain(groups).collect()
+    };
+    let (plus, minus) = (side(Op::Inside), side(Op::Outside));
     let base = match plus.len() {
         0 => None,
         1 => Some(plus[0].clone()),

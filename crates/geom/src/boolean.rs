@@ -12,6 +12,8 @@
 //! would otherwise be seen as surfaces. sv-trace's `Prepared` sets `tol` to
 //! 1e-7 of the model's bounding-box diagonal unless told otherwise.
 
+use sv_math::DVec3;
+
 /// One end of a span.
 ///
 /// Sixteen bytes without padding: spans are copied whole all through the
@@ -58,6 +60,50 @@ impl Bound {
     /// The face with the flip bit ([`Bound::FLIP`] when subtracted).
     pub fn face_flip(&self) -> u32 {
         self.face_flip
+    }
+
+    /// The body number that marks the end of a surface inside a filled
+    /// region (a universe or lattice element moved into it): such an end
+    /// carries the surface's normal, in the filled region's frame, instead
+    /// of a face ([`Bound::nested`]).
+    pub const NESTED: u32 = u32::MAX - 1;
+
+    /// The end at `t` on a surface inside a filled region whose outward
+    /// unit normal there is `normal`: the normal is held in the face field,
+    /// each of its octahedral coordinates in 16 bits (Cigolle et al. 2014,
+    /// "A survey of efficient representations for independent unit
+    /// vectors"), some 1e-4 radians from the true one at most.
+    pub fn nested(t: f64, normal: DVec3) -> Bound {
+        let n = normal / (normal.x.abs() + normal.y.abs() + normal.z.abs());
+        let (mut u, mut v) = (n.x, n.y);
+        if n.z < 0.0 {
+            (u, v) = (
+                (1.0 - n.y.abs()) * n.x.signum(),
+                (1.0 - n.x.abs()) * n.y.signum(),
+            );
+        }
+        let q = |c: f64| (((c.clamp(-1.0, 1.0) + 1.0) * 0.5 * 65535.0).round() as u32) & 0xffff;
+        Bound {
+            t,
+            body: Self::NESTED,
+            face_flip: q(u) | q(v) << 16,
+        }
+    }
+
+    /// The normal of a [`Bound::nested`] end, `None` for other ends.
+    pub fn nested_normal(&self) -> Option<DVec3> {
+        if self.body != Self::NESTED {
+            return None;
+        }
+        let d = |bits: u32| f64::from(bits & 0xffff) / 65535.0 * 2.0 - 1.0;
+        let (u, v) = (d(self.face_flip), d(self.face_flip >> 16));
+        let z = 1.0 - u.abs() - v.abs();
+        let (x, y) = if z < 0.0 {
+            ((1.0 - v.abs()) * u.signum(), (1.0 - u.abs()) * v.signum())
+        } else {
+            (u, v)
+        };
+        Some(DVec3::new(x, y, z).normalize())
     }
 
     /// The end at `t` on `body` with `face_flip` as [`Bound::face_flip`]
@@ -274,6 +320,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn nested_ends_carry_their_normal() {
+        let mut worst: f64 = 0.0;
+        for i in 0..2000 {
+            let (a, b) = (i as f64 * 0.618, i as f64 * 0.37);
+            let n = DVec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos());
+            let back = Bound::nested(3.5, n).nested_normal().unwrap();
+            worst = worst.max(back.angle_between(n));
+            assert!((back.length() - 1.0).abs() < 1e-12);
+        }
+        assert!(worst < 1e-4, "{worst}");
+        for n in [
+            DVec3::X,
+            -DVec3::X,
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ] {
+            assert!(
+                Bound::nested(0.0, n)
+                    .nested_normal()
+                    .unwrap()
+                    .angle_between(n)
+                    < 1e-4
+            );
+        }
+        assert_eq!(Bound::new(1.0, 3, 2).nested_normal(), None);
     }
 
     #[test]

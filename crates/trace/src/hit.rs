@@ -24,6 +24,12 @@ pub struct Scratch {
     /// packet tests each zone its rays' cells list once.
     pub(crate) tested: Vec<u32>,
     pub(crate) packet: u32,
+    /// Span lists to lend the evaluation of groups, one per level of
+    /// nesting under way.
+    pub(crate) spares: Vec<Vec<Span>>,
+    /// The working memory of each sub-universe (filled regions), made on
+    /// first use.
+    pub(crate) subs: Vec<Option<Box<Scratch>>>,
 }
 
 impl Scratch {
@@ -39,7 +45,43 @@ impl Scratch {
             stack: Stack::new(),
             tested: vec![0; p.zones.len()],
             packet: 0,
+            spares: Vec::new(),
+            subs: Vec::new(),
         }
+    }
+
+    /// A lent copy of the spans in `cur`.
+    pub(crate) fn spare_copy(&mut self) -> Vec<Span> {
+        let mut copy = self.spare();
+        copy.extend_from_slice(&self.cur);
+        copy
+    }
+
+    /// The working memory of sub-universe `k` (prepared as `p`), lent until
+    /// [`Scratch::put_sub`].
+    pub(crate) fn take_sub(&mut self, k: usize, p: &Prepared) -> Box<Scratch> {
+        if self.subs.len() <= k {
+            self.subs.resize_with(k + 1, || None);
+        }
+        self.subs[k]
+            .take()
+            .unwrap_or_else(|| Box::new(Scratch::new(p)))
+    }
+
+    /// Working memory back from [`Scratch::take_sub`].
+    pub(crate) fn put_sub(&mut self, k: usize, s: Box<Scratch>) {
+        self.subs[k] = Some(s);
+    }
+
+    /// An empty span list, lent until [`Scratch::give_back`].
+    pub(crate) fn spare(&mut self) -> Vec<Span> {
+        self.spares.pop().unwrap_or_default()
+    }
+
+    /// A span list back, emptied, for the next [`Scratch::spare`].
+    pub(crate) fn give_back(&mut self, mut spans: Vec<Span>) {
+        spans.clear();
+        self.spares.push(spans);
     }
 
     /// Begin a packet of shadow rays: no zone is yet tested for it.

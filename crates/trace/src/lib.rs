@@ -22,7 +22,9 @@
 //! ```
 #![warn(missing_docs)]
 
+mod build;
 mod bvh;
+mod fill;
 mod frustum;
 mod hit;
 mod lightbuf;

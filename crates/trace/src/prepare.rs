@@ -1,17 +1,23 @@
 //! `prepare`: validate every body, build its ray-casting form, lay zones out
 //! in flat arrays and build the bounding volume hierarchies.
 
+use crate::build::{
+    default_tolerance, in_space_order, permute, without_containers, Layout, ZoneBuilder,
+};
 use crate::bvh::Bvh;
+use crate::fill::{FillBuilder, FillTracer};
 use crate::raster::RasterProxy;
+use std::sync::Arc;
 use sv_geom::shape::{Shape, Sphere};
-use sv_geom::{Geometry, Op, Warning};
+use sv_geom::{Geometry, Warning};
 use sv_math::{Aabb, DVec3};
 
 /// Options for [`Prepared::new`].
 #[derive(Clone, Debug, Default)]
 pub struct PrepareOptions {
-    /// Boolean tolerance (model units). Default: 1e-7 of the bounding-box
-    /// diagonal of the finite bodies.
+    /// Boolean tolerance (model units). Default: 1e-7 of the size of the
+    /// geometry, containers such as a FLUKA black hole set aside (see
+    /// `default_tolerance` in build.rs).
     pub tolerance: Option<f64>,
     /// Per region: does it stop light? `None` means every region does.
     /// Transparent regions are still traced by [`Prepared::partitions`].
@@ -31,21 +37,57 @@ pub struct PrepareError {
     pub problems: Vec<String>,
 }
 
+/// A zone as the tracer holds it: its terms in [`Prepared`]'s one array.
+/// Sixty-four bytes, a cache line: the tile lists read zones in turn.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PreparedZone {
     pub region: u32,
-    /// Terms in `terms[first..first+plus]` are `+`, the next `minus` are `-`.
+    /// Terms in `terms[first..first+plus]` are `+`, the next `minus` are
+    /// `-`; when the zone has groups, the term after them is the index of
+    /// its first group in [`Prepared::groups`].
     pub first: u32,
     pub plus: u16,
     pub minus: u16,
+    /// How many groups it has, and [`PreparedZone::FILLED`] when its
+    /// region is filled.
+    pub groups: u16,
     pub bounds: Aabb,
-    /// Every `+` body is convex (so the zone's `+` part is convex).
+    /// Every `+` body is convex and there are no groups (so the zone is
+    /// convex where its `+` bodies give one segment each).
     pub convex: bool,
-    /// It has `+` bodies, every one of which the packet tracer casts in
-    /// vector lanes ([`Shape::has_lanes`]): a packet evaluates the zone for
-    /// all its rays at once, but for the rays that meet the box of a `-`
-    /// body it cannot cast.
+    /// It has `+` bodies and no groups, and the packet tracer casts every
+    /// `+` body in vector lanes ([`Shape::has_lanes`]): a packet evaluates
+    /// the zone for all its rays at once, but for the rays that meet the
+    /// box of a `-` body it cannot cast.
     pub lanes: bool,
+}
+
+impl PreparedZone {
+    /// The bit of `groups` that marks a zone of a filled region.
+    pub const FILLED: u16 = 1 << 15;
+
+    /// How many groups it has.
+    #[inline(always)]
+    pub fn group_count(&self) -> usize {
+        usize::from(self.groups & !Self::FILLED)
+    }
+
+    /// True for a zone of a filled region: what a ray meets there is what
+    /// fills it.
+    #[inline(always)]
+    pub fn is_filled(&self) -> bool {
+        self.groups & Self::FILLED != 0
+    }
+}
+
+/// A group of a zone: the union of `count` nested zones from `first` in
+/// [`Prepared::nested`], intersected with the zone or subtracted from it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PreparedGroup {
+    pub subtract: bool,
+    pub first: u32,
+    pub count: u32,
+    pub bounds: Aabb,
 }
 
 /// Something tighter than a zone's box that holds the zone, from one of its
@@ -81,6 +123,16 @@ pub struct Prepared {
     pub(crate) shapes: Vec<Shape>,
     pub(crate) body_bounds: Vec<Aabb>,
     pub(crate) zones: Vec<PreparedZone>,
+    /// The zones inside groups, to any depth.
+    pub(crate) nested: Vec<PreparedZone>,
+    /// Every zone's groups.
+    pub(crate) groups: Vec<PreparedGroup>,
+    /// What fills the filled regions, and per region (of every universe)
+    /// the index of its fill here, `u32::MAX` for none.
+    pub(crate) fills: Vec<FillTracer>,
+    pub(crate) region_fills: Vec<u32>,
+    /// The universes the fills hold, each prepared in its own frame.
+    pub(crate) subs: Vec<Arc<Prepared>>,
     pub(crate) terms: Vec<u32>,
     pub(crate) opaque: Vec<bool>,
     pub(crate) bvh_all: Bvh,
@@ -102,7 +154,7 @@ pub struct Prepared {
     /// [`in_space_order`]): the body index of each stored body, and the
     /// place of each body.
     body_ids: Vec<u32>,
-    places: Vec<u32>,
+    pub(crate) places: Vec<u32>,
     /// Trace rays in packets where the processor has vector instructions
     /// for it: [`Prepared::first_hits_in`], [`Prepared::first_hits`],
     /// [`Prepared::tile_hits`] and [`Prepared::occluded_toward`]. Off with
@@ -117,194 +169,144 @@ impl Prepared {
         g: &Geometry,
         opts: &PrepareOptions,
     ) -> Result<(Prepared, Vec<Warning>), PrepareError> {
-        let mut problems = Vec::new();
         let mut warnings = Vec::new();
-        let mut shapes = Vec::with_capacity(g.bodies.len());
-        let mut body_bounds = Vec::with_capacity(g.bodies.len());
-        for b in &g.bodies {
-            match sv_geom::prepare(b, &mut warnings) {
-                Ok((s, bb)) => {
-                    shapes.push(s);
-                    body_bounds.push(bb);
-                }
-                Err(e) => {
-                    problems.push(format!("{} `{}`: {e}", b.kind, b.name));
-                    shapes.push(Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0)));
-                    body_bounds.push(Aabb::EMPTY);
-                }
-            }
-        }
-        let opaque = match &opts.opaque {
-            Some(o) if o.len() == g.regions.len() => o.clone(),
-            Some(o) => {
-                problems.push(format!(
-                    "{} opacity flags given for {} regions",
-                    o.len(),
-                    g.regions.len()
-                ));
-                vec![true; g.regions.len()]
-            }
-            None => vec![true; g.regions.len()],
+        let p = Prepared::universe_with(g, opts, vec![0], &mut warnings)?;
+        Ok((p, warnings))
+    }
+
+    /// Universe `path.last()` of `g` prepared in its own frame, with the
+    /// universes its regions' fills hold (`path` lists the universes
+    /// being prepared, outermost first).
+    pub(crate) fn universe(
+        g: &Geometry,
+        opts: &PrepareOptions,
+        path: Vec<usize>,
+    ) -> Result<Prepared, PrepareError> {
+        Prepared::universe_with(g, opts, path, &mut Vec::new())
+    }
+
+    fn universe_with(
+        g: &Geometry,
+        opts: &PrepareOptions,
+        path: Vec<usize>,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Prepared, PrepareError> {
+        let universe = *path.last().expect("a universe");
+        let (mut shapes, mut body_bounds, mut problems) = prepare_bodies(g, warnings);
+        let opaque = opacity(g, opts, &mut problems);
+        let mut builder = ZoneBuilder {
+            shapes: &shapes,
+            body_bounds: &body_bounds,
+            layout: Layout::default(),
+            problems: Vec::new(),
         };
-        let mut zones = Vec::new();
-        let mut terms = Vec::new();
-        for (ri, r) in g.regions.iter().enumerate() {
-            if r.zones.is_empty() {
-                problems.push(format!("region `{}`: it has no bodies", r.name));
-            }
-            for (zi, z) in r.zones.iter().enumerate() {
-                if z.terms.is_empty() {
-                    problems.push(format!("region `{}`: zone {} is empty", r.name, zi + 1));
-                    continue;
-                }
-                if let Some(t) = z.terms.iter().find(|t| t.body >= g.bodies.len()) {
-                    problems.push(format!(
-                        "region `{}`: body index {} does not exist",
-                        r.name, t.body
-                    ));
-                    continue;
-                }
-                let mut plus: Vec<u32> = z
-                    .terms
-                    .iter()
-                    .filter(|t| t.op == Op::Inside)
-                    .map(|t| t.body as u32)
-                    .collect();
-                plus.sort_by(|a, b| {
-                    body_bounds[*a as usize]
-                        .area()
-                        .total_cmp(&body_bounds[*b as usize].area())
-                });
-                plus.dedup();
-                let bounds = plus.iter().fold(Aabb::INFINITE, |acc, &b| {
-                    acc.intersection(&body_bounds[b as usize])
-                });
-                if bounds.is_empty() {
-                    // The + bodies never overlap: the zone is empty.
-                    continue;
-                }
-                // Only subtracted bodies that reach the zone's bounds matter.
-                let mut minus: Vec<u32> = z
-                    .terms
-                    .iter()
-                    .filter(|t| {
-                        t.op == Op::Outside && !body_bounds[t.body].intersection(&bounds).is_empty()
-                    })
-                    .map(|t| t.body as u32)
-                    .collect();
-                minus.dedup();
-                let convex = plus.iter().all(|&b| shapes[b as usize].is_convex());
-                let lanes =
-                    !plus.is_empty() && plus.iter().all(|&b| shapes[b as usize].has_lanes());
-                zones.push(PreparedZone {
-                    convex,
-                    lanes,
-                    region: ri as u32,
-                    first: terms.len() as u32,
-                    plus: plus.len() as u16,
-                    minus: minus.len() as u16,
-                    bounds,
-                });
-                terms.extend(plus);
-                terms.extend(minus);
+        builder.regions(g, universe);
+        problems.append(&mut builder.problems);
+        let mut fills = FillBuilder::new(g, opts, path);
+        let mut region_fills = vec![u32::MAX; g.regions.len()];
+        let mut fill_tracers = Vec::new();
+        for (r, region) in g.regions.iter().enumerate() {
+            if let (true, Some(fill)) = (region.universe == universe, &region.fill) {
+                region_fills[r] = fill_tracers.len() as u32;
+                fill_tracers.push(fills.fill(r, fill));
             }
         }
+        problems.append(&mut fills.problems);
         if !problems.is_empty() {
             return Err(PrepareError { problems });
         }
-        let (mut zones, terms, body_ids, places) = in_space_order(zones, terms, g.bodies.len());
+        let (mut layout, body_ids, places) = in_space_order(builder.layout, g.bodies.len());
         permute(&mut shapes, &body_ids);
         permute(&mut body_bounds, &body_ids);
-        let finite = body_bounds
-            .iter()
-            .filter(|b| b.is_finite())
-            .fold(Aabb::EMPTY, |a, b| a.union(b));
-        let tol = opts.tolerance.unwrap_or_else(|| {
-            let d = if finite.is_empty() {
-                1.0
-            } else {
-                finite.diagonal()
-            };
-            (1e-7 * d).max(1e-12)
-        });
+        let tol = opts
+            .tolerance
+            .unwrap_or_else(|| default_tolerance(&body_bounds));
         // Pad every box by the tolerance so that rounding never makes a box
         // test reject a hit on its boundary.
         let pad = 4.0 * tol;
         for b in body_bounds.iter_mut() {
             *b = b.padded(pad);
         }
-        for z in zones.iter_mut() {
+        for z in layout.zones.iter_mut().chain(layout.nested.iter_mut()) {
             z.bounds = z.bounds.padded(pad);
         }
-        let mut bounded_all = Vec::new();
-        let mut bounded_opaque = Vec::new();
-        let (mut unbounded_all, mut unbounded_opaque) = (Vec::new(), Vec::new());
-        let (mut bounds, mut opaque_bounds) = (Aabb::EMPTY, Aabb::EMPTY);
-        for (i, z) in zones.iter().enumerate() {
-            let vis = opaque[z.region as usize];
-            if z.bounds.is_finite() && !opts.brute_force {
-                bounded_all.push((i as u32, z.bounds));
-                bounds = bounds.union(&z.bounds);
-                if vis {
-                    bounded_opaque.push((i as u32, z.bounds));
-                    opaque_bounds = opaque_bounds.union(&z.bounds);
-                }
-            } else {
-                unbounded_all.push(i as u32);
-                if vis {
-                    unbounded_opaque.push(i as u32);
-                }
-            }
+        for group in layout.groups.iter_mut() {
+            group.bounds = group.bounds.padded(pad);
         }
-        let mut hull_pts = Vec::new();
-        let enclosures: Vec<Enclosure> = zones
-            .iter()
-            .map(|z| {
-                let plus = &terms[z.first as usize..z.first as usize + z.plus as usize];
-                plus.iter()
-                    .find_map(|&b| match &shapes[b as usize] {
-                        Shape::Sphere(sp) => Some(Enclosure::Ball(sp.c, sp.r)),
-                        s => s.hull_points(tol).map(|pts| {
-                            let a = hull_pts.len() as u32;
-                            hull_pts.extend(pts);
-                            Enclosure::Points(a, hull_pts.len() as u32)
-                        }),
-                    })
-                    .unwrap_or(Enclosure::Box)
-            })
-            .collect();
-        let raster_proxies = bounded_opaque
+        let lists = ZoneLists::of(&layout.zones, &opaque, opts.brute_force);
+        let (enclosures, hull_pts) = enclosures(&layout, &shapes, tol);
+        let raster_proxies = lists
+            .bounded_opaque
             .iter()
             .map(|&(zi, b)| RasterProxy::new(zi, &b, &enclosures[zi as usize]))
             .collect();
         let p = Prepared {
             shapes,
             body_bounds,
-            bvh_all: Bvh::build(&bounded_all),
-            bvh_opaque: Bvh::build(&bounded_opaque),
-            zones,
-            terms,
+            bvh_all: Bvh::build(&lists.bounded_all),
+            bvh_opaque: Bvh::build(&lists.bounded_opaque),
+            zones: layout.zones,
+            nested: layout.nested,
+            groups: layout.groups,
+            terms: layout.terms,
             opaque,
-            unbounded_all,
-            unbounded_opaque,
+            unbounded_all: lists.unbounded_all,
+            unbounded_opaque: lists.unbounded_opaque,
             raster_proxies,
             tol,
             enclosures,
             hull_pts,
-            bounds,
-            opaque_bounds,
+            bounds: lists.bounds,
+            opaque_bounds: lists.opaque_bounds,
             region_count: g.regions.len(),
             body_ids,
             places,
             packets: !opts.brute_force,
+            fills: fill_tracers,
+            region_fills,
+            subs: fills.subs,
         };
-        Ok((p, warnings))
+        Ok(p)
     }
 
     /// Bounds of every zone with finite bounds (unbounded regions are
     /// left out, so framing stays finite).
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// Bounds of region `r`'s zones in this universe (empty when it has
+    /// none here; infinite sides where a zone is unbounded).
+    pub fn region_bounds(&self, r: usize) -> Aabb {
+        self.zones
+            .iter()
+            .filter(|z| z.region as usize == r)
+            .fold(Aabb::EMPTY, |acc, z| acc.union(&z.bounds))
+    }
+
+    /// The box of what a view or a check should cover: the finite regions
+    /// that `keep` accepts (a reader's black holes left out), less the
+    /// containers around them (a region whose box holds all the others'
+    /// and is more than twice their size: the void sphere around a
+    /// detector). Empty when no kept region is finite.
+    pub fn interest_bounds(&self, keep: impl Fn(usize) -> bool) -> Aabb {
+        let mut per_region = vec![Aabb::EMPTY; self.region_count];
+        for z in &self.zones {
+            let r = z.region as usize;
+            if keep(r) {
+                per_region[r] = per_region[r].union(&z.bounds);
+            }
+        }
+        let mut finite: Vec<Aabb> = per_region
+            .into_iter()
+            .filter(|b| !b.is_empty() && b.is_finite())
+            .collect();
+        let (inner, innermost) = without_containers(&mut finite, Aabb::EMPTY);
+        if inner.is_empty() {
+            innermost.unwrap_or(Aabb::EMPTY)
+        } else {
+            inner
+        }
     }
 
     /// Bounds of the opaque regions' finite zones.
@@ -370,95 +372,135 @@ impl Prepared {
     pub(crate) fn zone_contains(&self, z: &PreparedZone, p: DVec3) -> bool {
         let t = &self.terms[z.first as usize..];
         let (plus, minus) = t.split_at(z.plus as usize);
-        plus.iter().all(|&b| self.shapes[b as usize].contains(p))
-            && !minus[..z.minus as usize]
-                .iter()
-                .any(|&b| self.shapes[b as usize].contains(p))
+        let inside = |b: &u32| self.shapes[*b as usize].contains(p);
+        if !plus.iter().all(inside) || minus[..z.minus as usize].iter().any(inside) {
+            return false;
+        }
+        self.zone_groups(z).iter().all(|g| {
+            let zones = &self.nested[g.first as usize..(g.first + g.count) as usize];
+            zones.iter().any(|inner| self.zone_contains(inner, p)) != g.subtract
+        })
+    }
+
+    /// The groups of zone `z`.
+    #[inline]
+    pub(crate) fn zone_groups(&self, z: &PreparedZone) -> &[PreparedGroup] {
+        if z.group_count() == 0 {
+            return &[];
+        }
+        let first = self.terms[z.first as usize + z.plus as usize + z.minus as usize] as usize;
+        &self.groups[first..first + z.group_count()]
     }
 }
 
-/// Reorder `v` in place so that `v[i]` becomes the old `v[from[i]]`
-/// (`from` a permutation): a model's prepared bodies are too many to copy.
-fn permute<T>(v: &mut [T], from: &[u32]) {
-    let mut done = vec![false; v.len()];
-    for start in 0..v.len() {
-        let mut i = start;
-        while !done[i] {
-            done[i] = true;
-            let j = from[i] as usize;
-            if j == start {
-                break;
+/// Every body's prepared shape and bounds, and what is wrong with the
+/// bodies that cannot be prepared (each stands in as a unit sphere with
+/// empty bounds, so that the regions can still be checked).
+fn prepare_bodies(
+    g: &Geometry,
+    warnings: &mut Vec<Warning>,
+) -> (Vec<Shape>, Vec<Aabb>, Vec<String>) {
+    let mut problems = Vec::new();
+    let mut shapes = Vec::with_capacity(g.bodies.len());
+    let mut body_bounds = Vec::with_capacity(g.bodies.len());
+    for b in &g.bodies {
+        match sv_geom::prepare(b, warnings) {
+            Ok((s, bb)) => {
+                shapes.push(s);
+                body_bounds.push(bb);
             }
-            // Place `i` takes its body; place `j` holds the start's for now.
-            v.swap(i, j);
-            i = j;
+            Err(e) => {
+                problems.push(format!("{} `{}`: {e}", b.kind, b.name));
+                shapes.push(Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0)));
+                body_bounds.push(Aabb::EMPTY);
+            }
         }
+    }
+    (shapes, body_bounds, problems)
+}
+
+/// Per region, whether it stops light.
+fn opacity(g: &Geometry, opts: &PrepareOptions, problems: &mut Vec<String>) -> Vec<bool> {
+    match &opts.opaque {
+        Some(o) if o.len() == g.regions.len() => o.clone(),
+        Some(o) => {
+            problems.push(format!(
+                "{} opacity flags given for {} regions",
+                o.len(),
+                g.regions.len()
+            ));
+            vec![true; g.regions.len()]
+        }
+        None => vec![true; g.regions.len()],
     }
 }
 
-/// Zones sorted along a space-filling curve through the centres of their
-/// bounds (unbounded zones first, in their order), and the bodies numbered
-/// in the order these zones first name them (then the bodies no zone
-/// names): neighbours in space become neighbours in memory, so that a ray
-/// crossing a crowd of small bodies finds their data in the lines it has
-/// just loaded. Returns the zones and terms renumbered, the body index of
-/// each new body number, and the new number of each body. Unsorted,
-/// 100,000 random spheres rendered 20 % slower (BENCHMARKS.md, twelfth
-/// round).
-fn in_space_order(
-    zones: Vec<PreparedZone>,
-    terms: Vec<u32>,
-    bodies: usize,
-) -> (Vec<PreparedZone>, Vec<u32>, Vec<u32>, Vec<u32>) {
-    let all = zones
-        .iter()
-        .filter(|z| z.bounds.is_finite())
-        .fold(Aabb::EMPTY, |a, z| a.union(&z.bounds));
-    let size = all.size().max(DVec3::splat(f64::MIN_POSITIVE));
-    let key = |z: &PreparedZone| -> u64 {
-        if !z.bounds.is_finite() || all.is_empty() {
-            return 0;
-        }
-        // 21 bits an axis, interleaved (Morton order).
-        let q = ((z.bounds.center() - all.min) / size * 2_097_151.0)
-            .clamp(DVec3::ZERO, DVec3::splat(2_097_151.0));
-        let spread = |v: f64| {
-            let mut x = v as u64 & 0x1f_ffff;
-            x = (x | x << 32) & 0x1f_0000_0000_ffff;
-            x = (x | x << 16) & 0x1f_0000_ff00_00ff;
-            x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
-            x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
-            (x | x << 2) & 0x1249_2492_4924_9249
+/// The zones the hierarchies hold (bounded ones, of all regions and of
+/// opaque ones) and those every ray tries (unbounded ones), with the
+/// bounds of each kind.
+struct ZoneLists {
+    bounded_all: Vec<(u32, Aabb)>,
+    bounded_opaque: Vec<(u32, Aabb)>,
+    unbounded_all: Vec<u32>,
+    unbounded_opaque: Vec<u32>,
+    bounds: Aabb,
+    opaque_bounds: Aabb,
+}
+
+impl ZoneLists {
+    /// The lists of `zones`; with `brute_force`, every zone is tried by
+    /// every ray.
+    fn of(zones: &[PreparedZone], opaque: &[bool], brute_force: bool) -> ZoneLists {
+        let mut lists = ZoneLists {
+            bounded_all: Vec::new(),
+            bounded_opaque: Vec::new(),
+            unbounded_all: Vec::new(),
+            unbounded_opaque: Vec::new(),
+            bounds: Aabb::EMPTY,
+            opaque_bounds: Aabb::EMPTY,
         };
-        1 + (spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2)
-    };
-    let mut order: Vec<u32> = (0..zones.len() as u32).collect();
-    let keys: Vec<u64> = zones.iter().map(key).collect();
-    order.sort_unstable_by_key(|&zi| (keys[zi as usize], zi));
-    const NONE: u32 = u32::MAX;
-    let mut places = vec![NONE; bodies];
-    let mut body_ids = Vec::with_capacity(bodies);
-    let mut place = |b: u32| {
-        if places[b as usize] == NONE {
-            places[b as usize] = body_ids.len() as u32;
-            body_ids.push(b);
+        for (i, z) in zones.iter().enumerate() {
+            // What fills a region is traced whatever the region's own
+            // opacity: its content's decides.
+            let visible = opaque[z.region as usize] || z.is_filled();
+            if z.bounds.is_finite() && !brute_force {
+                lists.bounded_all.push((i as u32, z.bounds));
+                lists.bounds = lists.bounds.union(&z.bounds);
+                if visible {
+                    lists.bounded_opaque.push((i as u32, z.bounds));
+                    lists.opaque_bounds = lists.opaque_bounds.union(&z.bounds);
+                }
+            } else {
+                lists.unbounded_all.push(i as u32);
+                if visible {
+                    lists.unbounded_opaque.push(i as u32);
+                }
+            }
         }
-        places[b as usize]
-    };
-    let mut new_zones = Vec::with_capacity(zones.len());
-    let mut new_terms = Vec::with_capacity(terms.len());
-    for &zi in &order {
-        let z = &zones[zi as usize];
-        let first = z.first as usize;
-        let n = z.plus as usize + z.minus as usize;
-        new_zones.push(PreparedZone {
-            first: new_terms.len() as u32,
-            ..*z
-        });
-        new_terms.extend(terms[first..first + n].iter().map(|&b| place(b)));
+        lists
     }
-    for b in 0..bodies as u32 {
-        place(b);
-    }
-    (new_zones, new_terms, body_ids, places)
+}
+
+/// Per zone, something tighter than its box that holds it (from its first
+/// `+` body that has a ball or hull points), and the hull points.
+fn enclosures(layout: &Layout, shapes: &[Shape], tol: f64) -> (Vec<Enclosure>, Vec<DVec3>) {
+    let mut hull_pts = Vec::new();
+    let enclosures = layout
+        .zones
+        .iter()
+        .map(|z| {
+            let plus = &layout.terms[z.first as usize..z.first as usize + z.plus as usize];
+            plus.iter()
+                .find_map(|&b| match &shapes[b as usize] {
+                    Shape::Sphere(sp) => Some(Enclosure::Ball(sp.c, sp.r)),
+                    s => s.hull_points(tol).map(|pts| {
+                        let a = hull_pts.len() as u32;
+                        hull_pts.extend(pts);
+                        Enclosure::Points(a, hull_pts.len() as u32)
+                    }),
+                })
+                .unwrap_or(Enclosure::Box)
+        })
+        .collect();
+    (enclosures, hull_pts)
 }

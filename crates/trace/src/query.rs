@@ -125,7 +125,7 @@ impl Prepared {
     /// Test one zone for the first hit, keeping the best so far: the lowest
     /// entry, ties to the lower region index.
     #[inline]
-    fn consider(
+    pub(crate) fn consider(
         &self,
         zi: u32,
         ray: &Ray,
@@ -135,8 +135,16 @@ impl Prepared {
         s: &mut Scratch,
     ) {
         let z = &self.zones[zi as usize];
-        if hits(&z.bounds, ray, tmin, *limit).is_none() || !self.zone_spans(z, ray, tmin, *limit, s)
-        {
+        if hits(&z.bounds, ray, tmin, *limit).is_none() {
+            return;
+        }
+        if z.is_filled() {
+            if let Some(h) = self.fill_hit(z, zi, ray, tmin, *limit, s) {
+                self.keep_nearer(h, limit, best);
+            }
+            return;
+        }
+        if !self.zone_spans(z, ray, tmin, *limit, s) {
             return;
         }
         let sp = s.cur[0];
@@ -145,23 +153,52 @@ impl Prepared {
         } else {
             (tmin, true)
         };
-        // Any hit is better than none (region `u32::MAX`). At equal `t`
-        // the lower region wins, and within a region the lower zone (two
-        // zones of a region may be entered through the same surface): the
-        // hit is then the same in whatever order the zones are tried.
+        let hit = Hit {
+            zone: zi,
+            t,
+            region: z.region,
+            bound: sp.a,
+            inside,
+        };
+        self.keep_nearer(hit, limit, best);
+    }
+
+    /// Keep `hit` when it is nearer than `best`. Any hit is better than
+    /// none (region `u32::MAX`). At equal `t` the lower region wins, and
+    /// within a region the lower zone (two zones of a region may be entered
+    /// through the same surface): the hit is then the same in whatever
+    /// order the zones are tried.
+    #[inline(always)]
+    fn keep_nearer(&self, hit: Hit, limit: &mut f64, best: &mut Hit) {
+        let t = hit.t;
         if t < best.t
             || (t == best.t
-                && (z.region < best.region || (z.region == best.region && zi < best.zone)))
+                && (hit.region < best.region
+                    || (hit.region == best.region && hit.zone < best.zone)))
         {
-            *best = Hit {
-                zone: zi,
-                t,
-                region: z.region,
-                bound: sp.a,
-                inside,
-            };
+            *best = hit;
             // Keep equal-t candidates reachable for the tie rule.
             *limit = t + self.tol.min(t.abs() * 1e-15 + f64::MIN_POSITIVE);
+        }
+    }
+
+    /// True when zone `zi` holds opaque material on the ray within
+    /// `(tmin, tmax)`: any of its stretches, or, filled, any of its
+    /// content's. The caller has checked that the ray meets its bounds.
+    #[inline]
+    pub(crate) fn zone_blocks(
+        &self,
+        zi: u32,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> bool {
+        let z = &self.zones[zi as usize];
+        if z.is_filled() {
+            self.fill_hit(z, zi, ray, tmin, tmax, s).is_some()
+        } else {
+            self.zone_spans(z, ray, tmin, tmax, s)
         }
     }
 
@@ -238,7 +275,7 @@ impl Prepared {
             let z = &self.zones[zi as usize];
             Some(zi) != skip
                 && hits(&z.bounds, ray, tmin, tmax).is_some()
-                && self.zone_spans(z, ray, tmin, tmax, s)
+                && self.zone_blocks(zi, ray, tmin, tmax, s)
         })
     }
 
@@ -258,8 +295,12 @@ impl Prepared {
         tagged.clear();
         let mut collect = |zi: u32, s: &mut Scratch| {
             let z = &self.zones[zi as usize];
-            if hits(&z.bounds, ray, tmin, tmax).is_some() && self.zone_spans(z, ray, tmin, tmax, s)
-            {
+            if hits(&z.bounds, ray, tmin, tmax).is_none() {
+                return;
+            }
+            if z.is_filled() {
+                self.fill_partitions(z, ray, tmin, tmax, s, &mut tagged);
+            } else if self.zone_spans(z, ray, tmin, tmax, s) {
                 tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
             }
         };
@@ -335,6 +376,9 @@ impl Prepared {
     pub fn normal(&self, hit: &Hit, ray: &Ray) -> DVec3 {
         if hit.inside || hit.bound.body == u32::MAX {
             return -ray.dir;
+        }
+        if let Some(n) = hit.bound.nested_normal() {
+            return n;
         }
         let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face(), ray.at(hit.t));
         if hit.bound.flip() {

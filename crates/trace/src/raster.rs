@@ -117,13 +117,19 @@ pub(crate) fn entry_of(b: &Aabb, t: EnclosureRef<'_>, eye: DVec3, parallel: Opti
     let mut near = match parallel {
         None => (b.min - eye).max(eye - b.max).max(DVec3::ZERO).length(),
         Some(d) => {
-            // The box corner furthest against `d`.
-            let p = DVec3::new(
-                if d.x > 0.0 { b.min.x } else { b.max.x },
-                if d.y > 0.0 { b.min.y } else { b.max.y },
-                if d.z > 0.0 { b.min.z } else { b.max.z },
-            );
-            p.dot(d) - base
+            // The box corner furthest against `d`, axis by axis: an axis
+            // the rays run across adds nothing, even where the box is
+            // unbounded along it (0 · ∞ would be not a number, and a zone
+            // whose bound is not a number was never tried: a half-space
+            // across the view hid nothing).
+            (0..3)
+                .map(|a| match d[a] {
+                    x if x > 0.0 => b.min[a] * x,
+                    x if x < 0.0 => b.max[a] * x,
+                    _ => 0.0,
+                })
+                .sum::<f64>()
+                - base
         }
     };
     // A ball inside the box may lie farther off than the box.

@@ -4,8 +4,8 @@
 
 use crate::bvh::hits;
 use crate::hit::Scratch;
-use crate::prepare::{Prepared, PreparedZone};
-use sv_geom::boolean::{flipped, intersect_with, subtract_with, Bound, Span};
+use crate::prepare::{Prepared, PreparedGroup, PreparedZone};
+use sv_geom::boolean::{flipped, intersect, intersect_with, subtract, subtract_with, Bound, Span};
 use sv_geom::shape::Seg;
 use sv_math::Ray;
 
@@ -44,7 +44,7 @@ impl Prepared {
     ) -> bool {
         let keep = |sp: &Span| sp.b.t > lo && sp.a.t < hi;
         s.cur.clear();
-        if z.plus == 1 && z.minus == 0 {
+        if z.plus == 1 && z.minus == 0 && z.group_count() == 0 {
             // A lone body: its spans are the zone's.
             let b = self.terms[z.first as usize];
             let (a, e) = self.body_segs(b, ray, s, true);
@@ -80,8 +80,70 @@ impl Prepared {
                 return false;
             }
         }
+        if z.group_count() > 0 && !self.apply_groups(z, ray, s) {
+            return false;
+        }
         s.cur.retain(keep);
         !s.cur.is_empty()
+    }
+
+    /// `s.cur` intersected with, or less, each group of zone `z`, each
+    /// group's zones evaluated along the stretch `s.cur` covers and
+    /// unioned; false when nothing is left. Each body is still cast once a
+    /// ray (the cache holds its segments), so the cost follows the size of
+    /// the expression, whatever its nesting.
+    #[inline(never)]
+    fn apply_groups(&self, z: &PreparedZone, ray: &Ray, s: &mut Scratch) -> bool {
+        for g in self.zone_groups(z) {
+            let (first, last) = (s.cur[0].a.t, s.cur[s.cur.len() - 1].b.t);
+            let met = hits(&g.bounds, ray, first, last).is_some();
+            if !met && g.subtract {
+                continue;
+            }
+            let union = if met {
+                self.group_spans(g, ray, first, last, s)
+            } else {
+                s.spare()
+            };
+            let mut out = s.spare();
+            if g.subtract {
+                subtract(&s.cur, &union, &mut out, self.tol);
+            } else {
+                intersect(&s.cur, &union, &mut out, self.tol);
+            }
+            s.give_back(union);
+            let before = std::mem::replace(&mut s.cur, out);
+            s.give_back(before);
+            if s.cur.is_empty() {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The union of the zones of group `g` that reach into `(lo, hi)`.
+    fn group_spans(
+        &self,
+        g: &PreparedGroup,
+        ray: &Ray,
+        lo: f64,
+        hi: f64,
+        s: &mut Scratch,
+    ) -> Vec<Span> {
+        let outer = std::mem::take(&mut s.cur);
+        let (mut union, mut merged) = (s.spare(), s.spare());
+        let zones = &self.nested[g.first as usize..(g.first + g.count) as usize];
+        for inner in zones {
+            if hits(&inner.bounds, ray, lo, hi).is_some() && self.zone_spans(inner, ray, lo, hi, s)
+            {
+                sv_geom::boolean::union(&union, &s.cur, &mut merged, self.tol);
+                std::mem::swap(&mut union, &mut merged);
+            }
+        }
+        s.give_back(merged);
+        let inner_cur = std::mem::replace(&mut s.cur, outer);
+        s.give_back(inner_cur);
+        union
     }
 
     /// The spans of the `+` bodies' intersection, the first body's

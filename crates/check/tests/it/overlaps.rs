@@ -313,6 +313,25 @@ fn default_spacing_follows_the_model_shape() {
 }
 
 #[test]
+fn two_airs_of_different_codes_overlapping_is_a_real_overlap() {
+    // GIFT and BRL-CAD let air give way to a solid, and one air to air of
+    // its own code, but two different airs meeting is a modelling error.
+    let mut s = crate::scene(SPHERES);
+    s.regions[0].air = 1;
+    s.regions[1].air = 2;
+    let (m, _) = sv_check::Model::new(&s, &UniverseChoice::None).unwrap();
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert_eq!(r.overlaps.len(), 1);
+    assert!(r.air_overlaps.is_empty());
+    assert!(!r.is_clean());
+    s.regions[1].air = 1;
+    let (m, _) = sv_check::Model::new(&s, &UniverseChoice::None).unwrap();
+    let r = check(&m, &CheckOptions::default()).unwrap();
+    assert!(r.overlaps.is_empty());
+    assert_eq!(r.air_overlaps.len(), 1);
+}
+
+#[test]
 fn overlaps_with_air_are_listed_apart_unless_strict() {
     let mut s = crate::scene(SPHERES);
     s.regions[1].air = 2;

@@ -15,8 +15,8 @@
 //! * `ELL` is the foci form ([`BodyKind::Ell`]) in v1/v4 and the centre form
 //!   ([`BodyKind::Ell1`]) in v5, as in `comgeom-g`;
 //! * regions are named by their number; `OR` starts a new zone; a `G`
-//!   operator refers to a region, which is expanded into body terms
-//!   (subtracting a region uses De Morgan's law, capped at [`MAX_ZONES`]);
+//!   operator refers to a region, which becomes a group of that region's
+//!   zones ([`sv_geom::Group`]), `+( … )` or `-( … )`, never expanded;
 //! * region fields are read from column 7 (11 in v1) as in `comgeom-g`;
 //!   when a deck's numbers straddle those columns (left-aligned or GIFT-style
 //!   4- and 5-digit numbers) and another start column reads every region card,
@@ -56,7 +56,7 @@ mod card;
 mod read;
 mod write;
 
-pub use read::{detect_version, read, MAX_ZONES};
+pub use read::{detect_version, read};
 pub use write::{ell_foci_to_centre, write, WriteError, WrittenDeck};
 
 use crate::DeckVersion;

@@ -4,6 +4,9 @@ use std::fmt::Write as _;
 use sv_geom::{Body, BodyKind, Op, Region};
 use sv_scene::{RegionProps, Scene};
 
+/// Most zones a region with groups may expand to when written.
+pub const MAX_WRITTEN_ZONES: usize = 4096;
+
 /// Why a scene cannot be written as a COMGEOM deck.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WriteError {
@@ -42,6 +45,21 @@ pub enum WriteError {
     /// More regions than the 5-column region number holds.
     #[error("a v5 deck holds at most 99999 regions, the scene has {0}")]
     TooManyRegions(usize),
+    /// A region whose groups expand to more zones than a deck should hold
+    /// (a deck cannot nest, so groups are written as zones of body terms).
+    #[error("region {region}: its parenthesised groups expand to more than {limit} zones, which a COMGEOM deck cannot nest")]
+    TooNested {
+        /// Region name.
+        region: String,
+        /// The most zones written for one region.
+        limit: usize,
+    },
+    /// A region filled by a universe or a lattice.
+    #[error("region {region} is filled by another universe or a lattice, which a COMGEOM deck cannot express")]
+    Filled {
+        /// Region name.
+        region: String,
+    },
     /// A zone without terms cannot be written.
     #[error("region {region}: zone {zone} has no terms")]
     EmptyZone {
@@ -322,8 +340,25 @@ impl Deck {
     /// The cards of region `number`: nine fields a card, `OR` before the
     /// first term of every zone but the first.
     fn region(&mut self, number: usize, r: &Region, body_count: usize) -> Result<(), WriteError> {
+        if r.fill.is_some() {
+            return Err(WriteError::Filled {
+                region: r.name.clone(),
+            });
+        }
+        let flat;
+        let zones = if r.is_nested() {
+            flat = r
+                .flattened(MAX_WRITTEN_ZONES)
+                .ok_or(WriteError::TooNested {
+                    region: r.name.clone(),
+                    limit: MAX_WRITTEN_ZONES,
+                })?;
+            &flat
+        } else {
+            &r.zones
+        };
         let mut fields = Vec::new();
-        for (zi, z) in r.zones.iter().enumerate() {
+        for (zi, z) in zones.iter().enumerate() {
             if z.terms.is_empty() {
                 return Err(WriteError::EmptyZone {
                     region: r.name.clone(),

@@ -1,13 +1,90 @@
 //! The body list of a FLUKA geometry: bodies, which may continue over
 //! several lines, and the `$start_…`/`$end_…` directives that move them.
 
-use super::{card, clean, is_name, rotdefi, tokens, Reader, BODY_CODES};
+use super::{card, clean, is_name, tokens, Reader, BODY_CODES};
 use crate::did_you_mean;
 use sv_geom::{Body, BodyKind};
 use sv_math::{DAffine3, DVec3};
 
 /// FLUKA body types this reader knows of but does not read.
-const UNSUPPORTED_CODES: [&str; 4] = ["PYX", "PYY", "PYZ", "TET"];
+const UNSUPPORTED_CODES: [&str; 1] = ["TET"];
+
+/// FLUKA's pyramids along x, y and z, and the names of their 7 values:
+/// the centre of the major base, the half-sides of the major base (along
+/// the next two axes in x, y, z order), the height (its sign points from
+/// the major base to the minor one) and the ratio of the minor base's
+/// sides to the major base's (0: not truncated).
+const PYRAMIDS: [&str; 3] = ["PYX", "PYY", "PYZ"];
+const PYRAMID_VALUES: [&str; 7] = ["Vx", "Vy", "Vz", "L1", "L2", "H", "R"];
+
+/// What a body's values are: those of a body type, or a pyramid's.
+#[derive(Clone, Copy, Debug)]
+enum ValuesOf {
+    Kind(BodyKind),
+    /// A PYX, PYY or PYZ: the axis (0, 1, 2).
+    Pyramid(usize),
+}
+
+impl ValuesOf {
+    fn count(self) -> usize {
+        match self {
+            ValuesOf::Kind(k) => k.info().value_count(),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES.len(),
+        }
+    }
+
+    fn name(self, i: usize) -> String {
+        match self {
+            ValuesOf::Kind(k) => value_name(k, i),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES[i].to_string(),
+        }
+    }
+
+    fn layout(self) -> String {
+        match self {
+            ValuesOf::Kind(k) => layout(k),
+            ValuesOf::Pyramid(_) => PYRAMID_VALUES.join(" "),
+        }
+    }
+}
+
+/// A pyramid along axis `axis` as the polyhedron of its corners: an ARB8
+/// (truncated) or an ARB5 (full, with its apex).
+fn pyramid(axis: usize, v: &[f64]) -> Result<(BodyKind, Vec<f64>), String> {
+    let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+    let (half_u, half_w, height, ratio) = (v[3], v[4], v[5], v[6]);
+    if !(half_u > 0.0 && half_w > 0.0) {
+        return Err("the half-sides of its major base must be positive".into());
+    }
+    if height == 0.0 {
+        return Err("its height is zero".into());
+    }
+    if !(0.0..1.0).contains(&ratio) {
+        return Err(format!(
+            "its ratio R = {ratio} must be at least 0 and below 1"
+        ));
+    }
+    let corner = |su: f64, sw: f64, scale: f64, up: f64| {
+        let mut p = [v[0], v[1], v[2]];
+        p[u] += su * half_u * scale;
+        p[w] += sw * half_w * scale;
+        p[axis] += up;
+        p
+    };
+    let square = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let mut points: Vec<[f64; 3]> = square
+        .iter()
+        .map(|&(a, b)| corner(a, b, 1.0, 0.0))
+        .collect();
+    let kind = if ratio == 0.0 {
+        points.push(corner(0.0, 0.0, 0.0, height));
+        BodyKind::Arb5
+    } else {
+        points.extend(square.iter().map(|&(a, b)| corner(a, b, ratio, height)));
+        BodyKind::Arb8
+    };
+    Ok((kind, points.concat()))
+}
 
 const DIRECTIVES: [&str; 6] = [
     "$start_translat",
@@ -35,8 +112,9 @@ impl DirKind {
     }
 }
 
+/// An open `$start_…` directive.
 #[derive(Clone, Debug)]
-struct Directive {
+pub(super) struct Directive {
     kind: DirKind,
     factor: f64,
     shift: DVec3,
@@ -46,13 +124,24 @@ struct Directive {
     len: usize,
 }
 
-struct PendingBody {
-    /// (line index, column, text) of each word.
-    words: Vec<(usize, usize, String)>,
+/// A body whose words are being collected.
+pub(super) struct PendingBody {
+    /// (line index, column, text) of each word: code, name, values.
+    pub words: Vec<(usize, usize, String)>,
+    /// Whether the name is a fixed-format body number.
+    pub numbered: bool,
 }
 
 fn starts_numeric(s: &str) -> bool {
     s.starts_with(|c: char| c.is_ascii_digit() || c == '+' || c == '-' || c == '.')
+}
+
+/// How many values a body of code `s` takes, when the code is known.
+pub(super) fn value_count(s: &str) -> Option<usize> {
+    if PYRAMIDS.iter().any(|p| p.eq_ignore_ascii_case(s)) {
+        return Some(PYRAMID_VALUES.len());
+    }
+    body_code(s).map(|k| k.info().value_count())
 }
 
 fn body_code(s: &str) -> Option<BodyKind> {
@@ -174,6 +263,7 @@ impl Reader {
                 }
                 pending = Some(PendingBody {
                     words: words.into_iter().map(|(c, w)| (k, c, w)).collect(),
+                    numbered: false,
                 });
             }
         }
@@ -181,6 +271,12 @@ impl Reader {
             // END is missing: the last body still counts.
             self.finish_body(&p, &stack);
         }
+        self.unclosed(stack);
+        result
+    }
+
+    /// Report the directives left open at the end of the bodies.
+    pub(super) fn unclosed(&mut self, stack: Vec<Directive>) {
         for d in stack {
             let name = format!("$start_{}", d.kind.name());
             self.err(d.line, d.col, d.len, format!("`{name}` is never closed"))
@@ -189,13 +285,17 @@ impl Reader {
                 d.kind.name()
             ));
         }
-        result
     }
 
     /// A `$start_…` or `$end_…` line: opens a directive on `stack` (even a
     /// faulty one, so that its `$end_…` matches) or closes the innermost of
     /// its kind.
-    fn directive(&mut self, line: usize, words: &[(usize, String)], stack: &mut Vec<Directive>) {
+    pub(super) fn directive(
+        &mut self,
+        line: usize,
+        words: &[(usize, String)],
+        stack: &mut Vec<Directive>,
+    ) {
         let (col, word) = (words[0].0, words[0].1.as_str());
         let len = word.chars().count();
         let lower = word.to_ascii_lowercase();
@@ -225,12 +325,14 @@ impl Reader {
             (true, _) => 1,
         };
         if let Some((extra_col, extra)) = args.get(want) {
-            self.err(
-                line,
-                *extra_col,
-                extra.chars().count(),
-                format!("unexpected `{extra}` after `{word}`"),
-            );
+            let len = extra.chars().count();
+            let message = format!("unexpected `{extra}` after `{word}`");
+            if start {
+                self.err(line, *extra_col, len, message);
+            } else {
+                // FLUKA reads no argument after an `$end_…` and goes on.
+                self.warn(line, *extra_col, len, format!("{message}: ignored"));
+            }
         }
         if !start {
             match stack.iter().rposition(|d| d.kind == kind) {
@@ -314,21 +416,10 @@ impl Reader {
     /// name or index; `-` for its inverse), or the identity when there is
     /// none.
     fn transform(&mut self, line: usize, (col, text): &(usize, String)) -> DAffine3 {
-        let (inverse, name) = match text.strip_prefix('-') {
-            Some(n) => (true, n),
-            None => (false, text.as_str()),
-        };
-        let key = if self.rot.contains_key(name) {
-            Some(name.to_string())
-        } else {
-            name.parse::<i64>()
-                .ok()
-                .and_then(|i| self.rot_index.get(&i).cloned())
-        };
-        if let Some(cards) = key.and_then(|k| self.rot.get(&k)) {
-            let xf = rotdefi::compose(cards);
-            return if inverse { xf.inverse() } else { xf };
+        if let Some(xf) = self.find_transform(text) {
+            return xf;
         }
+        let name = text.trim_start_matches('-');
         let hint = self.hint_among(name, self.rot.keys());
         let e = self.err(
             line,
@@ -344,11 +435,15 @@ impl Reader {
 
     /// A body whose words are all read: checked, moved by the directives
     /// around it and added, or reported.
-    fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
+    pub(super) fn finish_body(&mut self, pending: &PendingBody, stack: &[Directive]) {
         let (line, col, code) = &pending.words[0];
         let code_len = code.chars().count();
-        let Some(kind) = self.body_kind(pending) else {
-            return;
+        let values_of = match PYRAMIDS.iter().position(|p| p.eq_ignore_ascii_case(code)) {
+            Some(axis) => ValuesOf::Pyramid(axis),
+            None => match self.body_kind(pending) {
+                Some(kind) => ValuesOf::Kind(kind),
+                None => return,
+            },
         };
         let code = code.to_ascii_uppercase();
         let Some(name) = self.body_name(pending, &code) else {
@@ -358,9 +453,16 @@ impl Reader {
             reader.err(*line, *col, code_len, msg);
             reader.bad_bodies.insert(name.to_string());
         };
-        let Some(params) = self.body_values(pending, kind, &code, name) else {
+        let Some(params) = self.body_values(pending, values_of, &code, name) else {
             self.bad_bodies.insert(name.to_string());
             return;
+        };
+        let (kind, params) = match values_of {
+            ValuesOf::Kind(kind) => (kind, params),
+            ValuesOf::Pyramid(axis) => match pyramid(axis, &params) {
+                Ok(made) => made,
+                Err(e) => return at(self, format!("{code} `{name}`: {e}")),
+            },
         };
         let mut body = Body::new(name, kind, params);
         if !stack.is_empty() {
@@ -431,7 +533,8 @@ impl Reader {
             return None;
         };
         let name_len = name.chars().count();
-        if starts_numeric(name) {
+        // A fixed-format body number was checked where it was read.
+        if !pending.numbered && starts_numeric(name) {
             self.err(
                 name_line,
                 name_col,
@@ -440,7 +543,7 @@ impl Reader {
             );
             return None;
         }
-        if !is_name(name) {
+        if !pending.numbered && !is_name(name) {
             self.err(name_line, name_col, name_len, format!("body name `{name}` must start with a letter and hold only letters, digits and `_`"));
             self.bad_bodies.insert(name.to_string());
             return None;
@@ -464,13 +567,13 @@ impl Reader {
     fn body_values(
         &mut self,
         pending: &PendingBody,
-        kind: BodyKind,
+        values_of: ValuesOf,
         code: &str,
         name: &str,
     ) -> Option<Vec<f64>> {
         let (line, col) = (pending.words[0].0, pending.words[0].1);
         let values = &pending.words[2..];
-        let want = kind.info().value_count();
+        let want = values_of.count();
         let mut ok = true;
         if values.len() != want {
             self.err(
@@ -482,7 +585,7 @@ impl Reader {
                     values.len()
                 ),
             )
-            .hint = Some(format!("{code} values: {}", layout(kind)));
+            .hint = Some(format!("{code} values: {}", values_of.layout()));
             ok = false;
         }
         let mut params = Vec::with_capacity(want);
@@ -490,7 +593,7 @@ impl Reader {
             match card::number(text) {
                 Some(v) => params.push(v),
                 None => {
-                    let what = value_name(kind, i);
+                    let what = values_of.name(i);
                     self.err(
                         *value_line,
                         *value_col,

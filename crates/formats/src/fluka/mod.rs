@@ -1,23 +1,40 @@
-//! FLUKA geometry in free (name-based) format.
+//! FLUKA geometry: name-based free format and numbered fixed format.
 //!
-//! [`read`] finds `GEOBEGIN … GEOEND` (SDUM `COMBNAME`) in a FLUKA input and
-//! turns its bodies and regions into a [`Scene`](sv_scene::Scene) in centimetres. The physics
-//! cards around it are skipped, except the few that shape the picture:
+//! [`read`] finds `GEOBEGIN … GEOEND` in a FLUKA input and turns its bodies
+//! and regions into a [`Scene`](sv_scene::Scene) in centimetres. Both of
+//! FLUKA's geometry layouts are read: the name-based free format (GEOBEGIN
+//! SDUM `COMBNAME`) and the numbered fixed-column format (SDUM blank or
+//! `COMBINAT`, FLUKA's default: bodies `(2X,A3,I5,6D10.3)` or, for IDBG
+//! −10/−100, `(2X,A3,I5,3D22.15)`; regions `(2X,A3,I5,9(A2,I5))` or, for
+//! IDBG ±100, `(2X,A3,I5,7(A2,I7))`, with `OR` in the operator fields),
+//! whose bodies and regions are named by their numbers. The geometry may
+//! also be read from a separate file (GEOBEGIN WHAT(3) a logical unit,
+//! the file named on the next card, relative to the input). The physics
+//! cards around it are skipped, except those that shape the picture:
 //!
 //! * `TITLE` gives the scene title (else the geometry title line does);
 //! * `ROT-DEFI` cards (anywhere in the input) define the roto-translations
-//!   used by `$start_transform` (convention below);
-//! * `ASSIGNMA` cards name each region's material: it is recorded in
-//!   [`RegionProps::description`](sv_scene::RegionProps::description) as `material: NAME`, and `BLCKHOLE` regions
-//!   are made transparent, and so are `VACUUM` regions (air code 1, shown
-//!   by `render --show-air`);
+//!   used by `$start_transform`, `LATTICE` and `VOXELS` (convention below);
+//!   a card without a name is `ROT#n` after its index `n`;
+//! * `ASSIGNMA` cards give each region its material (by name, and by
+//!   FLUKA's material number, the predefined materials included): `BLCKHOLE`
+//!   regions are outside the model, and `BLCKHOLE`, `VACUUM` and `AIR`
+//!   regions are transparent (air code 1 for the last two, shown by
+//!   `render --show-air`);
+//! * `MATERIAL` and `COMPOUND` cards list the materials with their
+//!   densities (and their elements, when every component is one);
+//! * `VOXELS`, right after GEOBEGIN, adds a voxel structure read from its
+//!   `.vxl` file beside the input (see `voxels.rs`);
 //! * `FREE`, `FIXED` and `GLOBAL` switch between fixed-column and free cards.
 //!
 //! The preprocessor (`#define`, `#undef`, `#if`/`#ifdef`/`#ifndef`, `#elif`,
-//! `#else`, `#endif`, `#include`) runs first over the whole input. Bodies
-//! may be moved by `$start_translat`, `$start_expansion` and
-//! `$start_transform` (nested in any order). Regions are put in disjunctive
-//! normal form: each becomes a union of zones of signed body terms.
+//! `#else`, `#endif`, `#include`, and `$name` replaced by a defined value)
+//! runs first over the whole input. Bodies may be moved by
+//! `$start_translat`, `$start_expansion` and `$start_transform` (nested in
+//! any order). Regions are kept as written: parentheses become groups of
+//! zones (no expansion into sums of products), so a region costs what its
+//! text is long; a line that does not start a new region (a name and its
+//! NAZ) continues the one before, whatever it starts with.
 //!
 //! # Transforms
 //!
@@ -28,7 +45,7 @@
 //!   100 on, otherwise only the index i, with j = 0. j = 1 is x, 2 is y, 0 or 3
 //!   is z. Any other j is an error.
 //! * WHAT(2) is the polar angle θ, WHAT(3) the azimuthal angle φ (degrees),
-//!   WHAT(4…6) the offset t. A body point r becomes `Rθ · Rφ · (r + t)`,
+//!   WHAT(4…6) the offset t. A point r becomes `Rθ · Rφ · (r + t)`,
 //!   with (rows) for z: `Rθ = [[cθ,0,−sθ],[0,1,0],[sθ,0,cθ]]`,
 //!   `Rφ = [[cφ,sφ,0],[−sφ,cφ,0],[0,0,1]]`; for x:
 //!   `Rθ = [[cθ,sθ,0],[−sθ,cθ,0],[0,0,1]]`, `Rφ = [[1,0,0],[0,cφ,sφ],[0,−sφ,cφ]]`;
@@ -43,11 +60,12 @@
 //!   `$end_…` closes the innermost open directive of its kind.
 //! * The result goes through [`Body::transformed`]: a turned RPP becomes a
 //!   BOX, a turned XYP a PLA, a turned XCC…ZEC a QUA.
-//!
-//! `LATTICE` cards are read and checked; the container regions are drawn as
-//! themselves and a note in [`Scene::notes`](sv_scene::Scene::notes) says the replicas are not drawn.
-//! The fixed-format numbered geometry (`COMBINAT`) is not read: it is
-//! reported as such.
+//! * A `LATTICE` transformation brings a point of the lattice cell to the
+//!   corresponding point of the prototype (the manual's words), so the
+//!   cell is filled with the whole model moved by its inverse
+//!   ([`Fill::Universe`](sv_geom::Fill::Universe) of universe 0): what
+//!   FLUKA tracks in the cell. A `VOXELS` transformation likewise brings a
+//!   point of the model into the voxel structure's own frame.
 //!
 //! Every problem is reported at once, with file, line and column; no input
 //! makes the reader panic, hang or allocate without bound.
@@ -69,19 +87,25 @@
 //! assert_eq!(scene.title, "demo");
 //! assert_eq!(scene.geometry.bodies.len(), 2);
 //! assert_eq!(scene.geometry.regions[0].zones.len(), 1);
-//! assert!(scene.regions[0].transparent);
+//! assert!(scene.regions[0].outside && scene.regions[0].transparent);
 //! ```
 
 mod bodies;
 mod card;
+mod fixed;
+mod geometry;
+mod lattice;
+mod materials;
 mod preprocess;
 mod region;
 mod regions;
 mod rotdefi;
 mod scene;
+mod voxels;
 
 pub use preprocess::MAX_INCLUDE_DEPTH;
-pub use region::{MAX_DEPTH, MAX_ZONES};
+pub use region::MAX_DEPTH;
+pub use voxels::{MAX_VOXELS, MAX_VOXEL_BOXES};
 
 use crate::diag::count;
 use crate::text;
@@ -117,8 +141,9 @@ pub const BODY_CODES: [(&str, BodyKind); 21] = [
     ("QUA", BodyKind::Qua),
 ];
 
-/// Read the geometry of a FLUKA input. `#include`d files are read relative
-/// to the directory of `src.name`.
+/// Read the geometry of a FLUKA input. `#include`d files, a geometry read
+/// from a separate file and `.vxl` voxel files are read relative to the
+/// directory of `src.name`.
 pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics> {
     let mut pre = preprocess::run(src);
     let lines = std::mem::take(&mut pre.lines);
@@ -131,17 +156,20 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
         rot: HashMap::new(),
         rot_index: HashMap::new(),
         assigns: Vec::new(),
+        material_cards: Vec::new(),
         title: None,
         geo_title: String::new(),
         bodies: Vec::new(),
         body_index: HashMap::new(),
         body_lines: Vec::new(),
         bad_bodies: HashSet::new(),
+        empty_bodies: HashSet::new(),
         regions: Vec::new(),
         region_index: HashMap::new(),
         region_lines: Vec::new(),
+        region_labels: HashMap::new(),
         lattices: Vec::new(),
-        expander: region::Expander::default(),
+        voxels: None,
         assign_budget: 10_000_000,
         hints_left: std::cell::Cell::new(5),
         suppressed,
@@ -150,35 +178,7 @@ pub fn read(src: &SourceFile, _opts: &LoadOptions) -> Result<Loaded, Diagnostics
     };
     reader.run();
     if !reader.errors.is_empty() || reader.suppressed > 0 {
-        let files: HashMap<String, usize> = reader
-            .out
-            .files
-            .iter()
-            .enumerate()
-            .map(|(i, f)| (f.name.clone(), i))
-            .collect();
-        reader
-            .errors
-            .sort_by_key(|d| (files.get(&d.source.name).copied().unwrap_or(0), d.offset));
-        if reader.suppressed > 0 {
-            let last = reader
-                .errors
-                .last()
-                .cloned()
-                .unwrap_or_else(|| reader.sink.clone());
-            reader.errors.push(Diagnostic {
-                message: format!(
-                    "… and {}",
-                    count(reader.suppressed, "more error", "more errors")
-                ),
-                hint: None,
-                unlisted_errors: reader.suppressed,
-                ..last
-            });
-        }
-        return Err(Diagnostics {
-            items: reader.errors,
-        });
+        return Err(reader.into_errors());
     }
     Ok(Loaded {
         scene: reader.scene(),
@@ -198,6 +198,8 @@ struct Reader {
     /// ROT-DEFI names by transformation index.
     rot_index: HashMap<i64, String>,
     assigns: Vec<(usize, Card)>,
+    /// MATERIAL and COMPOUND cards, in input order.
+    material_cards: Vec<(usize, Card)>,
     title: Option<String>,
     geo_title: String,
     bodies: Vec<Body>,
@@ -206,13 +208,18 @@ struct Reader {
     body_lines: Vec<usize>,
     /// Bodies defined with errors: references to them are not reported again.
     bad_bodies: HashSet<String>,
+    /// Bodies known to be empty (a voxel cage whose file is missing).
+    empty_bodies: HashSet<String>,
     regions: Vec<Region>,
     region_index: HashMap<String, usize>,
     /// Line index of each region's definition.
     region_lines: Vec<usize>,
-    /// Lattice container regions (indices), with the card's line.
-    lattices: Vec<(usize, usize)>,
-    expander: region::Expander,
+    /// The labels of numbered regions (columns 3–5), by region.
+    region_labels: HashMap<usize, String>,
+    /// Lattice cells.
+    lattices: Vec<lattice::Cell>,
+    /// The VOXELS card, when there is one.
+    voxels: Option<voxels::Voxels>,
     /// How many more "did you mean" hints may be worked out.
     hints_left: std::cell::Cell<usize>,
     /// Region assignments ASSIGNMA and LATTICE ranges may still make (bounds
@@ -252,35 +259,6 @@ fn is_name(s: &str) -> bool {
         && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-/// The geometry title from the line after GEOBEGIN: two integers (IVLFLG,
-/// IDBG), then the title (column 21 on in fixed format).
-fn geometry_title(text: &str) -> (i64, String) {
-    let mut rest = text;
-    let mut ivlflg = 0;
-    for k in 0..2 {
-        let t = rest.trim_start();
-        let n = t
-            .chars()
-            .take_while(|c| c.is_ascii_digit() || *c == '-' || *c == '+')
-            .count();
-        if n == 0
-            || !t[n..]
-                .chars()
-                .next()
-                .is_none_or(|c| c.is_whitespace() || c == ',')
-        {
-            break;
-        }
-        if k == 0 {
-            ivlflg = t[..n].parse().unwrap_or(0);
-        }
-        rest = &t[n..];
-        rest = rest.trim_start_matches([' ', '\t']);
-        rest = rest.strip_prefix(',').unwrap_or(rest);
-    }
-    (ivlflg, rest.trim().to_string())
-}
-
 impl Reader {
     fn err(
         &mut self,
@@ -294,6 +272,7 @@ impl Reader {
             return &mut self.sink;
         }
         let l = &self.lines[line];
+        let (col, len) = l.written_span(col, len);
         let d = self.out.error(l.file, l.line, col, len, msg);
         self.errors.push(d);
         self.errors.last_mut().expect("just pushed")
@@ -335,18 +314,62 @@ impl Reader {
     }
 
     fn warn(&mut self, line: usize, col: usize, len: usize, msg: impl Into<String>) {
+        self.warn_hinted(line, col, len, msg, None);
+    }
+
+    /// A warning with a hint (when there is one).
+    fn warn_hinted(
+        &mut self,
+        line: usize,
+        col: usize,
+        len: usize,
+        msg: impl Into<String>,
+        hint: Option<String>,
+    ) {
         if self.warnings.len() >= MAX_ERRORS {
             return;
         }
         let l = &self.lines[line];
-        self.warnings
-            .push(self.out.error(l.file, l.line, col, len, msg).warning());
+        let (col, len) = l.written_span(col, len);
+        let mut d = self.out.error(l.file, l.line, col, len, msg).warning();
+        d.hint = hint;
+        self.warnings.push(d);
+    }
+
+    /// The errors, in file order, with the count of those not kept.
+    fn into_errors(mut self) -> Diagnostics {
+        let files: HashMap<String, usize> = self
+            .out
+            .files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (f.name.clone(), i))
+            .collect();
+        self.errors
+            .sort_by_key(|d| (files.get(&d.source.name).copied().unwrap_or(0), d.offset));
+        if self.suppressed > 0 {
+            let last = self
+                .errors
+                .last()
+                .cloned()
+                .unwrap_or_else(|| self.sink.clone());
+            self.errors.push(Diagnostic {
+                message: format!(
+                    "… and {}",
+                    count(self.suppressed, "more error", "more errors")
+                ),
+                hint: None,
+                unlisted_errors: self.suppressed,
+                ..last
+            });
+        }
+        Diagnostics { items: self.errors }
     }
 
     fn run(&mut self) {
         let line_count = self.lines.len();
         let mut free = false;
-        let mut geometry: Option<(usize, usize)> = None;
+        let mut geometry: Option<(usize, usize, Card)> = None;
         let mut seen_geobegin = false;
         let mut i = 0;
         while i < line_count {
@@ -364,6 +387,8 @@ impl Reader {
                     i += 2;
                     continue;
                 }
+                // FLUKA reads nothing after STOP.
+                "STOP" => break,
                 "FREE" => free = true,
                 "FIXED" => free = false,
                 "GLOBAL"
@@ -391,13 +416,13 @@ impl Reader {
                             Some("end the geometry with a GEOEND card".into());
                         break;
                     };
-                    let ok = self.check_geobegin(i, &card);
-                    geometry = ok.then_some((i, end));
+                    geometry = Some((i, end, card));
                     i = end + 1;
                     continue;
                 }
                 k if k.starts_with("ROT-DEFI") => self.rotdefi(i, &card),
                 k if k.starts_with("ASSIGNMA") => self.assigns.push((i, card)),
+                "MATERIAL" | "COMPOUND" => self.material_cards.push((i, card)),
                 _ => {}
             }
             i += 1;
@@ -412,108 +437,8 @@ impl Reader {
             );
             return;
         }
-        if let Some((begin, end)) = geometry {
-            self.geometry(begin, end, free);
+        if let Some((begin, end, card)) = geometry {
+            self.geometry(begin, end, &card, free);
         }
-    }
-
-    /// Check GEOBEGIN's options; false when the geometry cannot be read.
-    fn check_geobegin(&mut self, i: usize, c: &Card) -> bool {
-        if let Some(w3) = &c.what[2] {
-            if card::number(&w3.text).is_some_and(|v| v > 0.0 && v != 5.0) {
-                let (col, len) = (w3.col, w3.len());
-                self.err(i, col, len, format!("geometry read from a separate logical unit (GEOBEGIN WHAT(3) = {}) is not supported", w3.text))
-                    .hint = Some("put the geometry between GEOBEGIN and GEOEND".into());
-                return false;
-            }
-        }
-        // COMBNAME belongs in SDUM; a free-format card that leaves out the
-        // blank WHATs puts it in an earlier field, which is accepted too.
-        if c.sdum
-            .iter()
-            .chain(c.what.iter().flatten())
-            .any(|f| f.text.eq_ignore_ascii_case("COMBNAME"))
-        {
-            return true;
-        }
-        let (col, len, shown) = match &c.sdum {
-            Some(f) => (f.col, f.len(), format!("SDUM `{}`", f.text)),
-            None => (1, 8, "blank SDUM, which means COMBINAT".to_string()),
-        };
-        self.err(
-            i,
-            col,
-            len,
-            format!("the fixed-format numbered geometry (GEOBEGIN {shown}) is not supported"),
-        )
-        .hint = Some(
-            "write the geometry in free format with names: GEOBEGIN with SDUM COMBNAME".into(),
-        );
-        false
-    }
-
-    fn geometry(&mut self, begin: usize, end: usize, free: bool) {
-        // The title line is the first line after GEOBEGIN that is not a
-        // comment.
-        let title_line = (begin + 1..end).find(|&k| !self.lines[k].text.starts_with('*'));
-        let (ivlflg, title) =
-            title_line.map_or((0, String::new()), |k| geometry_title(&self.lines[k].text));
-        self.geo_title = title;
-        let Some(regions_start) = self.bodies_section(title_line.map_or(end, |k| k + 1), end)
-        else {
-            self.err(end, 1, 6, "missing END after the bodies").hint =
-                Some("the body list ends with a line holding END".into());
-            return;
-        };
-        let Some(lattice_start) = self.regions_section(regions_start, end) else {
-            self.err(end, 1, 6, "missing END after the regions").hint =
-                Some("the region list ends with a line holding END".into());
-            return;
-        };
-        if self.regions.is_empty() && self.errors.is_empty() {
-            self.err(end, 1, 6, "the geometry has no regions");
-        }
-        for i in lattice_start..end {
-            let text = clean(&self.lines[i].text).to_string();
-            if text.trim().is_empty() {
-                continue;
-            }
-            let card = card::split(&text, card::is_free(&text, free));
-            if card.keyword == "LATTICE" {
-                self.lattice(i, &card);
-            } else if ivlflg == 0 {
-                let (col, w) = tokens(&text)
-                    .first()
-                    .map_or((1, String::new()), |(c, w)| (*c, w.to_string()));
-                self.err(
-                    i,
-                    col,
-                    w.chars().count(),
-                    format!("expected LATTICE or GEOEND after the regions, found `{w}`"),
-                );
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn geometry_title_forms() {
-        assert_eq!(
-            geometry_title("    0    0          a beam line"),
-            (0, "a beam line".to_string())
-        );
-        assert_eq!(
-            geometry_title("0,0,et inside vacuum"),
-            (0, "et inside vacuum".to_string())
-        );
-        assert_eq!(
-            geometry_title("\t\t\t A simple Be target"),
-            (0, "A simple Be target".to_string())
-        );
-        assert_eq!(geometry_title("    1    0"), (1, String::new()));
     }
 }

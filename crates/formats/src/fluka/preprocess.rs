@@ -1,10 +1,14 @@
 //! The FLUKA preprocessor: `#define`, `#undef`, `#if`/`#ifdef`/`#ifndef`,
-//! `#elif`, `#else`, `#endif` and `#include`.
+//! `#elif`, `#else`, `#endif` and `#include`, and `$name` substitution.
 //!
 //! FLUKA's conditions only ask whether a name is defined (`#if NAME` is true
-//! when `#define NAME` came before, whatever its value). The output is the
-//! list of active lines, each remembering its file and line number so later
-//! diagnostics point into the right file.
+//! when `#define NAME` came before, whatever its value). A defined name's
+//! value replaces `$name` wherever it stands on an active line (`-$name`
+//! in a region, a body parameter, a WHAT of a card); `$` words that name
+//! nothing defined (`$start_transform`) are left alone. The output is the
+//! list of active lines, each remembering its file and line number, and
+//! where substitutions moved its columns, so later diagnostics point into
+//! the right file at the right place.
 
 use crate::{did_you_mean, Diagnostic, SourceFile};
 use std::collections::HashMap;
@@ -23,8 +27,41 @@ pub(crate) struct Line {
     pub file: usize,
     /// 1-based line number in that file.
     pub line: usize,
-    /// The text, without the line break.
+    /// The text, without the line break, `$name`s substituted.
     pub text: String,
+    /// The substitutions made in `text`, left to right.
+    pub subs: Vec<Substitution>,
+}
+
+/// One `$name` replaced by its value on a line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Substitution {
+    /// 1-based column of the value in the substituted text.
+    pub col: usize,
+    /// Length of the value, in characters.
+    pub len: usize,
+    /// Length of `$name` as written, in characters.
+    pub written: usize,
+}
+
+impl Line {
+    /// The span as written of `len` characters at column `col` of the
+    /// substituted text: columns after a substitution move back by what
+    /// it added, and a span inside a value covers the `$name` written.
+    pub fn written_span(&self, col: usize, len: usize) -> (usize, usize) {
+        let mut shift: isize = 0;
+        for s in &self.subs {
+            if col < s.col {
+                break;
+            }
+            if col < s.col + s.len.max(1) {
+                let start = s.col as isize - shift;
+                return (start.max(1) as usize, s.written);
+            }
+            shift += s.len as isize - s.written as isize;
+        }
+        ((col as isize - shift).max(1) as usize, len)
+    }
 }
 
 /// The preprocessed input.
@@ -40,6 +77,10 @@ pub(crate) struct Output {
     pub suppressed: usize,
     /// Byte offset of each line start, per file (see [`Output::error`]).
     pub starts: Vec<Vec<usize>>,
+    /// The names `#define`d at the end of the input, with their values.
+    pub defines: HashMap<String, String>,
+    /// Bytes of text read so far.
+    bytes: usize,
 }
 
 impl Output {
@@ -147,8 +188,6 @@ impl<'a> DirectiveLine<'a> {
 
 struct Pre {
     out: Output,
-    defines: HashMap<String, String>,
-    bytes: usize,
     too_large: bool,
 }
 
@@ -157,8 +196,6 @@ struct Pre {
 pub(crate) fn run(src: &SourceFile) -> Output {
     let mut p = Pre {
         out: Output::default(),
-        defines: HashMap::new(),
-        bytes: 0,
         too_large: false,
     };
     p.out.push_file(src.clone());
@@ -168,6 +205,54 @@ pub(crate) fn run(src: &SourceFile) -> Output {
     }
     p.file(0, 0, &mut chain);
     p.out
+}
+
+impl Output {
+    /// Read the file `name` (relative to file `from`'s folder) named at
+    /// `line`, `col` (`len` characters) of file `from`, as an `#include`
+    /// there would, with the names defined at the end of the input; its
+    /// lines are appended to [`Output::lines`]. The range of lines it
+    /// added, or `None` when it could not be read (an error is recorded).
+    pub fn read_file(
+        &mut self,
+        from: usize,
+        at: (usize, usize, usize),
+        name: &str,
+    ) -> Option<std::ops::Range<usize>> {
+        let (line, col, len) = at;
+        let path = Path::new(&self.files[from].name)
+            .parent()
+            .map(|dir| dir.join(name))
+            .unwrap_or_else(|| PathBuf::from(name));
+        if let Err(e) = std::fs::metadata(&path) {
+            let d = self.error(
+                from,
+                line,
+                col,
+                len,
+                format!("cannot read the geometry file `{}`: {e}", path.display()),
+            );
+            self.errors.push(d.with_hint(
+                "GEOBEGIN WHAT(3) names a logical unit: the geometry is read from the file \
+                 named on the next card, beside the input",
+            ));
+            return None;
+        }
+        let mut p = Pre {
+            out: std::mem::take(self),
+            too_large: false,
+        };
+        let first = p.out.lines.len();
+        let files = p.out.files.len();
+        let here = Here {
+            file: from,
+            line,
+            active: true,
+        };
+        p.include(here, col, len, name, 0, &mut Vec::new());
+        *self = p.out;
+        (self.files.len() > files).then_some(first..self.lines.len())
+    }
 }
 
 impl Pre {
@@ -192,8 +277,8 @@ impl Pre {
 
     fn file(&mut self, file: usize, depth: usize, chain: &mut Vec<PathBuf>) {
         let text = self.out.files[file].text.clone();
-        self.bytes += text.len();
-        if self.bytes > MAX_TEXT_BYTES {
+        self.out.bytes += text.len();
+        if self.out.bytes > MAX_TEXT_BYTES {
             if !self.too_large {
                 self.too_large = true;
                 self.err(
@@ -217,10 +302,12 @@ impl Pre {
             match DirectiveLine::parse(raw) {
                 None => {
                     if active {
+                        let (text, subs) = substitute(raw, &self.out.defines);
                         self.out.lines.push(Line {
                             file,
                             line,
-                            text: raw.to_string(),
+                            text,
+                            subs,
                         });
                     }
                 }
@@ -252,9 +339,9 @@ impl Pre {
                 Some(name) => {
                     if word == "define" {
                         let value = d.rest[name.len()..].trim().to_string();
-                        self.defines.insert(name.to_string(), value);
+                        self.out.defines.insert(name.to_string(), value);
                     } else {
-                        self.defines.remove(name);
+                        self.out.defines.remove(name);
                     }
                 }
                 None => {
@@ -303,7 +390,7 @@ impl Pre {
         match d.word.as_str() {
             "if" | "ifdef" | "ifndef" => {
                 let cond = match d.arg {
-                    Some(name) => self.defines.contains_key(name) != (d.word == "ifndef"),
+                    Some(name) => self.out.defines.contains_key(name) != (d.word == "ifndef"),
                     None => {
                         if active {
                             self.err(
@@ -327,7 +414,7 @@ impl Pre {
                 });
             }
             "elif" => {
-                let defined = d.arg.is_some_and(|n| self.defines.contains_key(n));
+                let defined = d.arg.is_some_and(|n| self.out.defines.contains_key(n));
                 match stack.last_mut() {
                     None => {
                         self.err(file, line, col, 5, "`#elif` without `#if`");
@@ -441,6 +528,51 @@ impl Pre {
         self.file(idx, depth + 1, chain);
         chain.pop();
     }
+}
+
+/// `raw` with every `$name` of a defined name replaced by its value, and
+/// where the values went.
+fn substitute(raw: &str, defines: &HashMap<String, String>) -> (String, Vec<Substitution>) {
+    if defines.is_empty() || !raw.contains('$') {
+        return (raw.to_string(), Vec::new());
+    }
+    let chars: Vec<char> = raw.chars().collect();
+    let mut text = String::with_capacity(raw.len());
+    let mut subs = Vec::new();
+    let mut col = 1;
+    let mut k = 0;
+    while k < chars.len() {
+        let name_len = if chars[k] == '$' {
+            chars[k + 1..]
+                .iter()
+                .take_while(|c| c.is_ascii_alphanumeric() || **c == '_')
+                .count()
+        } else {
+            0
+        };
+        let name: String = chars[(k + 1).min(chars.len())..k + 1 + name_len]
+            .iter()
+            .collect();
+        match defines.get(&name).filter(|_| name_len > 0) {
+            Some(value) => {
+                let len = value.chars().count();
+                subs.push(Substitution {
+                    col,
+                    len,
+                    written: name_len + 1,
+                });
+                text.push_str(value);
+                col += len;
+                k += name_len + 1;
+            }
+            None => {
+                text.push(chars[k]);
+                col += 1;
+                k += 1;
+            }
+        }
+    }
+    (text, subs)
 }
 
 /// Read a regular file of at most [`MAX_TEXT_BYTES`] bytes (never a device

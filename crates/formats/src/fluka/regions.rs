@@ -1,14 +1,26 @@
-//! The region list of a FLUKA geometry and its LATTICE cards.
+//! The region list of a name-based (free-format) FLUKA geometry.
 
-use super::card::{self, Card};
-use super::region::{self, Spanned, Tok};
-use super::{clean, is_integer, is_name, Reader, MAX_ZONES};
-use sv_geom::Region;
+use super::card;
+use super::region::{self, Lookup, Spanned, Tok};
+use super::{clean, is_integer, is_name, Reader};
+use sv_geom::{Region, Zone};
+
+/// A region being read: where its name is, the name and its tokens.
+struct Pending {
+    line: usize,
+    col: usize,
+    name: String,
+    toks: Vec<Spanned>,
+}
 
 impl Reader {
     /// Read regions from line `start`; the index after END, or `None`.
+    ///
+    /// A line whose first word is a name and whose second is an integer
+    /// (the NAZ) starts a region; any other line continues the region
+    /// being read, whatever it starts with (`)`, an operator, a body).
     pub(super) fn regions_section(&mut self, start: usize, end: usize) -> Option<usize> {
-        let mut cur: Option<(usize, usize, String, Vec<Spanned>)> = None; // line, col, name, tokens
+        let mut cur: Option<Pending> = None;
         let mut result = None;
         for k in start..end {
             let text = clean(&self.lines[k].text).to_string();
@@ -20,31 +32,49 @@ impl Reader {
                 result = Some(k + 1);
                 break;
             }
-            let opens = first.starts_with(['+', '-', '|', '(']);
-            if !opens && words.get(1).is_some_and(|(_, w)| is_integer(w)) {
+            let starts_region = !first.starts_with(['+', '-', '|', '(', ')'])
+                && words.get(1).is_some_and(|(_, w)| is_integer(w));
+            if starts_region {
                 if let Some(r) = cur.take() {
                     self.finish_region(r);
                 }
                 let (ncol, naz) = words[1];
-                let after: String = text.chars().skip(ncol - 1 + naz.chars().count()).collect();
+                let shift = ncol - 1 + naz.chars().count();
+                let after: String = text.chars().skip(shift).collect();
                 let mut toks = Vec::new();
                 region::tokenize(&after, k, &mut toks);
-                let shift = ncol - 1 + naz.chars().count();
                 for t in &mut toks {
                     t.col += shift;
                 }
                 if !is_name(first) {
-                    self.err(k, col0, first.chars().count(), format!("region name `{first}` must start with a letter and hold only letters, digits and `_`"));
+                    let message = format!(
+                        "region name `{first}` must start with a letter and hold only letters, \
+                         digits and `_`"
+                    );
+                    self.err(k, col0, first.chars().count(), message);
                 }
-                cur = Some((k, col0, first.to_string(), toks));
-            } else if opens && cur.is_some() {
-                if let Some((_, _, _, toks)) = &mut cur {
-                    region::tokenize(&text, k, toks);
-                }
-            } else if opens {
-                self.err(k, col0, 1, "region expression outside a region: expected a region name and its NAZ number first");
+                cur = Some(Pending {
+                    line: k,
+                    col: col0,
+                    name: first.to_string(),
+                    toks,
+                });
+            } else if let Some(p) = &mut cur {
+                region::tokenize(&text, k, &mut p.toks);
+            } else if first.starts_with(['+', '-', '|', '(', ')']) {
+                let message = "region expression outside a region: expected a region name \
+                               and its NAZ number first";
+                self.err(k, col0, 1, message);
             } else {
-                self.err(k, col0, first.chars().count(), format!("expected a region name and its NAZ number, or a line continuing a region with `+`, `-`, `|` or `(`; found `{first}`"));
+                self.err(
+                    k,
+                    col0,
+                    first.chars().count(),
+                    format!("expected a region name and its NAZ number, found `{first}`"),
+                )
+                .hint = Some(
+                    "a region starts with its name and NAZ, as in `target 5 +cyl -hole`".into(),
+                );
             }
         }
         if let Some(r) = cur.take() {
@@ -53,39 +83,52 @@ impl Reader {
         result
     }
 
-    fn finish_region(&mut self, (line, col, name, toks): (usize, usize, String, Vec<Spanned>)) {
-        let name_len = name.chars().count();
+    /// What a body name in a region stands for; unknown names are
+    /// collected in `missing` (reported later, with hints).
+    fn lookup_body(&self, t: &Spanned, missing: &mut Vec<Spanned>) -> Lookup {
+        let Tok::Name(body_name) = &t.tok else {
+            return Lookup::Unknown;
+        };
+        if let Some(&b) = self.body_index.get(body_name) {
+            return Lookup::Body(b);
+        }
+        if self.empty_bodies.contains(body_name) {
+            return Lookup::Empty;
+        }
+        if !self.bad_bodies.contains(body_name) {
+            missing.push(t.clone());
+        }
+        Lookup::Unknown
+    }
+
+    fn finish_region(&mut self, p: Pending) {
+        let Pending {
+            line,
+            col,
+            name,
+            toks,
+        } = p;
         if toks.is_empty() {
-            self.err(
-                line,
-                col,
-                name_len,
-                format!("region `{name}` has no expression"),
-            );
+            let len = name.chars().count();
+            self.err(line, col, len, format!("region `{name}` has no expression"));
             return;
         }
         let mut missing: Vec<Spanned> = Vec::new();
-        let parsed = {
-            let index = &self.body_index;
-            let bad = &self.bad_bodies;
-            region::Parser::new(&toks, |t| match &t.tok {
-                Tok::Name(body_name) => {
-                    let body = index.get(body_name).copied();
-                    if body.is_none() && !bad.contains(body_name) {
-                        missing.push(t.clone());
-                    }
-                    body
-                }
-                _ => None,
-            })
-            .parse()
-        };
-        let mut ok = true;
+        let parsed = region::Parser::new(&toks, |t| self.lookup_body(t, &mut missing)).parse();
         for t in &missing {
             let Tok::Name(body_name) = &t.tok else {
                 continue;
             };
-            let hint = self.hint_among(body_name, self.body_index.keys());
+            // A name opening a line may be a region whose NAZ is missing.
+            let opens_line = !toks.iter().any(|o| o.line == t.line && o.col < t.col);
+            let hint = if opens_line && t.line != line && super::is_name(body_name) {
+                Some(format!(
+                    "a region starts with its name and NAZ number: if `{body_name}` starts \
+                     one, give its NAZ after the name"
+                ))
+            } else {
+                self.hint_among(body_name, self.body_index.keys())
+            };
             self.err(
                 t.line,
                 t.col,
@@ -93,10 +136,10 @@ impl Reader {
                 format!("region `{name}` refers to undefined body `{body_name}`"),
             )
             .hint = hint;
-            ok = false;
         }
-        let parsed = match parsed {
-            Ok(p) => p,
+        let zones = match parsed {
+            Ok((zones, true)) => zones,
+            Ok((_, false)) => Vec::new(),
             Err(error) => {
                 let (at_line, at_col, len) = match toks.get(error.at) {
                     Some(t) => (t.line, t.col, t.len),
@@ -114,103 +157,21 @@ impl Reader {
                 return;
             }
         };
+        self.add_region(line, col, name, zones);
+    }
+
+    /// Add a region read at `line`, `col` (its name there), unless its
+    /// name is taken.
+    pub(super) fn add_region(&mut self, line: usize, col: usize, name: String, zones: Vec<Zone>) {
         if let Some(&first) = self.region_index.get(&name) {
             let hint = self.where_is(self.region_lines[first]);
-            self.err(
-                line,
-                col,
-                name_len,
-                format!("region `{name}` is defined twice"),
-            )
-            .hint = Some(format!("the first definition is on {hint}"));
+            let len = name.chars().count();
+            self.err(line, col, len, format!("region `{name}` is defined twice"))
+                .hint = Some(format!("the first definition is on {hint}"));
             return;
         }
         self.region_index.insert(name.clone(), self.regions.len());
         self.region_lines.push(line);
-        let zones = if ok && missing.is_empty() {
-            match self.expander.zones(&parsed) {
-                Ok(zones) => zones,
-                Err(region::TooBig::Zones) => {
-                    self.err(
-                        line,
-                        col,
-                        name_len,
-                        format!("region `{name}` expands to more than {MAX_ZONES} zones"),
-                    )
-                    .hint = Some("split the region or use fewer nested `-( … )` groups".into());
-                    Vec::new()
-                }
-                Err(region::TooBig::Work) => {
-                    self.err(
-                        line,
-                        col,
-                        name_len,
-                        format!("region `{name}` is too large to expand into zones"),
-                    )
-                    .hint = Some("split the region or use fewer parenthesised groups".into());
-                    Vec::new()
-                }
-            }
-        } else {
-            Vec::new()
-        };
         self.regions.push(Region::new(name, zones));
-    }
-
-    pub(super) fn lattice(&mut self, i: usize, c: &Card) {
-        let Some(cell) = &c.what[0] else {
-            self.err(
-                i,
-                1,
-                7,
-                "LATTICE needs the name of its container region in WHAT(1)",
-            );
-            return;
-        };
-        match self.region_index.get(&cell.text) {
-            Some(&r) => {
-                // WHAT(2) and WHAT(3) may extend it to a range of regions.
-                let last = c.what[1]
-                    .as_ref()
-                    .and_then(|f| self.region_index.get(&f.text))
-                    .copied()
-                    .unwrap_or(r);
-                let step = c.what[2]
-                    .as_ref()
-                    .and_then(|f| card::number(&f.text))
-                    .filter(|v| *v >= 1.0)
-                    .map_or(1, |v| v.min(1e9) as usize);
-                for k in (r..=last).step_by(step) {
-                    if self.assign_budget == 0 {
-                        break;
-                    }
-                    self.assign_budget -= 1;
-                    self.lattices.push((k, i));
-                }
-            }
-            None => {
-                let (col, len, name) = (cell.col, cell.len(), cell.text.clone());
-                let hint = self.hint_among(&name, self.region_index.keys());
-                let d = self.err(
-                    i,
-                    col,
-                    len,
-                    format!("LATTICE refers to undefined region `{name}`"),
-                );
-                d.hint = hint;
-            }
-        }
-        if let Some(t) = &c.sdum {
-            let name = t.text.trim_start_matches('-');
-            if !self.rot.contains_key(name) {
-                let (col, len) = (t.col, t.len());
-                self.warn(
-                    i,
-                    col,
-                    len,
-                    format!("LATTICE transformation `{name}` has no ROT-DEFI card"),
-                );
-            }
-        }
     }
 }

@@ -115,20 +115,49 @@ impl super::Reader {
                 return;
             }
         };
+        // FLUKA keeps an index for every transformation: a card without
+        // one (WHAT(1) = 0) but with a name takes the first free index, and
+        // a card without a name is called `ROT#index`, the name LATTICE and
+        // `$start_transform` may use (or the bare index).
+        let index = if index > 0 {
+            index
+        } else if c.sdum.is_some() {
+            (1..).find(|k| !self.rot_index.contains_key(k)).unwrap_or(1)
+        } else {
+            return; // ignored by FLUKA too
+        };
         let name = match &c.sdum {
             Some(s) => s.text.clone(),
-            None if index > 0 => index.to_string(),
-            None => return, // ignored by FLUKA too
+            None => self
+                .rot_index
+                .get(&index)
+                .cloned()
+                .unwrap_or_else(|| format!("ROT#{index}")),
         };
-        if index > 0 {
-            self.rot_index.entry(index).or_insert_with(|| name.clone());
-        }
+        self.rot_index.entry(index).or_insert_with(|| name.clone());
         self.rot.entry(name).or_default().push(RotDefi {
             axis,
             polar: w[1],
             azimuth: w[2],
             offset: DVec3::new(w[3], w[4], w[5]),
         });
+    }
+
+    /// The transformation a LATTICE, VOXELS or `$start_transform` card
+    /// names: a ROT-DEFI name, `ROT#n` or the index `n`, with a leading `-`
+    /// for its inverse. `None` when no ROT-DEFI card defines it.
+    pub(super) fn find_transform(&self, text: &str) -> Option<DAffine3> {
+        let (inverse, name) = match text.strip_prefix('-') {
+            Some(n) => (true, n),
+            None => (false, text),
+        };
+        let cards = self.rot.get(name).or_else(|| {
+            let index = name.strip_prefix("ROT#").unwrap_or(name);
+            let index = card::number(index).filter(|v| v.fract() == 0.0 && *v >= 1.0)?;
+            self.rot.get(self.rot_index.get(&(index.min(1e15) as i64))?)
+        })?;
+        let xf = compose(cards);
+        Some(if inverse { xf.inverse() } else { xf })
     }
 }
 

@@ -1,23 +1,27 @@
-//! The scene a FLUKA input makes: its regions' materials (ASSIGNMA) and
-//! the notes on what is not drawn.
+//! The scene a FLUKA input makes: its regions' materials (ASSIGNMA), the
+//! materials, the lattice cells filled, and the notes.
 
 use super::card::{self, Card};
+use super::materials::Materials;
 use super::Reader;
-use std::collections::HashSet;
 use sv_geom::Geometry;
 use sv_scene::{RegionProps, Scene, Units};
 
 impl Reader {
     pub(super) fn scene(&mut self) -> Scene {
-        let mut props: Vec<RegionProps> = self
-            .regions
-            .iter()
-            .map(|_| RegionProps::default())
+        let mut props: Vec<RegionProps> = (0..self.regions.len())
+            .map(|r| RegionProps {
+                description: self.region_labels.get(&r).cloned().unwrap_or_default(),
+                ..RegionProps::default()
+            })
             .collect();
+        let mut materials = self.materials();
         let assigns = std::mem::take(&mut self.assigns);
         for (i, c) in &assigns {
-            self.assignma(*i, c, &mut props);
+            self.assignma(*i, c, &mut props, &mut materials);
         }
+        let mut regions = std::mem::take(&mut self.regions);
+        self.fill_lattice_cells(&mut regions);
         let mut scene = Scene {
             title: self
                 .title
@@ -27,10 +31,11 @@ impl Reader {
             units: Units::Centimetre,
             geometry: Geometry {
                 bodies: std::mem::take(&mut self.bodies),
-                regions: std::mem::take(&mut self.regions),
+                regions,
                 ..Geometry::default()
             },
             regions: props,
+            materials: materials.list,
             ..Scene::default()
         };
         if assigns.is_empty() {
@@ -38,82 +43,31 @@ impl Reader {
                 .notes
                 .push("no ASSIGNMA cards: every region is drawn opaque".to_string());
         }
-        if !self.lattices.is_empty() {
-            let mut names: Vec<&str> = Vec::new();
-            let mut seen = HashSet::new();
-            for (r, _) in &self.lattices {
-                if seen.insert(*r) {
-                    names.push(scene.geometry.regions[*r].name.as_str());
-                }
-            }
-            scene.notes.push(format!(
-                "LATTICE replicas are not drawn: {}",
-                if names.len() == 1 {
-                    format!(
-                        "lattice cell {} is drawn as a plain region (its container only)",
-                        names[0]
-                    )
-                } else {
-                    format!(
-                        "lattice cells {} are drawn as plain regions (their containers only)",
-                        names.join(", ")
-                    )
-                },
-            ));
-        }
         scene
     }
 
-    fn region_ref(&self, f: &card::Field) -> Option<usize> {
-        if let Some(&r) = self.region_index.get(&f.text) {
-            return Some(r);
-        }
-        if f.text == "@LASTREG" {
-            return self.regions.len().checked_sub(1);
-        }
-        card::number(&f.text)
-            .filter(|v| *v >= 1.0 && v.fract() == 0.0 && *v <= self.regions.len() as f64)
-            .map(|v| v as usize - 1)
-    }
-
-    fn assignma(&mut self, i: usize, c: &Card, props: &mut [RegionProps]) {
-        let material = match &c.what[0] {
-            Some(f) => match card::number(&f.text) {
-                Some(v) if v <= 1.0 => "BLCKHOLE".to_string(),
-                Some(2.0) => "VACUUM".to_string(),
-                Some(v) => format!("material #{v}"),
-                None => f.text.clone(),
-            },
-            None => "BLCKHOLE".to_string(),
+    /// An ASSIGNMA card: the material of WHAT(1) for regions WHAT(2) to
+    /// WHAT(3) in steps of WHAT(4).
+    fn assignma(
+        &mut self,
+        i: usize,
+        c: &Card,
+        props: &mut [RegionProps],
+        materials: &mut Materials,
+    ) {
+        let (name, known) = match &c.what[0] {
+            Some(f) => materials.resolve(&f.text),
+            None => materials.resolve("BLCKHOLE"),
         };
         let Some(lo) = &c.what[1] else {
             self.warn(i, 1, 8, "ASSIGNMA names no region");
             return;
         };
-        let Some(first) = self.region_ref(lo) else {
-            let (col, len) = (lo.col, lo.len());
-            self.warn(
-                i,
-                col,
-                len,
-                format!("ASSIGNMA refers to undefined region `{}`", lo.text),
-            );
+        let Some(first) = self.assigned_region(i, lo) else {
             return;
         };
         let last = match &c.what[2] {
-            Some(hi) => match self.region_ref(hi) {
-                Some(r) => r,
-                None => {
-                    let (col, len) = (hi.col, hi.len());
-                    self.warn(
-                        i,
-                        col,
-                        len,
-                        format!("ASSIGNMA refers to undefined region `{}`", hi.text),
-                    );
-                    first
-                }
-            },
+            Some(hi) => self.assigned_region(i, hi).unwrap_or(first),
             None => first,
         };
         let step = c.what[3]
@@ -121,21 +75,45 @@ impl Reader {
             .and_then(|f| card::number(&f.text))
             .filter(|v| *v >= 1.0)
             .map_or(1, |v| v.min(1e9) as usize);
+        let density = known.index.and_then(|k| materials.list[k].density);
         let mut region = first;
         while region <= last && region < props.len() && self.assign_budget > 0 {
             self.assign_budget -= 1;
-            let region_props = &mut props[region];
-            region_props.description = format!("material: {material}");
-            // Vacuum is air: left out of pictures unless `--show-air`, as
-            // air-coded regions of COMGEOM decks are.
-            region_props.transparent = material == "BLCKHOLE" || material == "VACUUM";
-            region_props.material = match material.as_str() {
-                "BLCKHOLE" => 1,
-                "VACUUM" => 2,
-                _ => 0,
+            let p = &mut props[region];
+            p.description = match self.region_labels.get(&region) {
+                Some(label) => format!("{label}; material: {name}"),
+                None => format!("material: {name}"),
             };
-            region_props.air = i64::from(material == "VACUUM");
+            let black_hole = name == "BLCKHOLE";
+            // Vacuum and air are left out of pictures unless `--show-air`,
+            // as air-coded regions of COMGEOM decks are; a black hole is
+            // beyond the model.
+            let air = name == "VACUUM" || name == "AIR";
+            p.outside = black_hole;
+            p.transparent = black_hole || air;
+            p.air = i64::from(air);
+            p.material = known.number;
+            p.material_name = Some(name.clone());
+            p.material_index = known.index;
+            p.density = density;
             region += step;
         }
+    }
+
+    /// The region an ASSIGNMA field names; `None` (with a warning, unless
+    /// it is a voxel region whose file is missing, already reported) when
+    /// there is none.
+    fn assigned_region(&mut self, i: usize, f: &card::Field) -> Option<usize> {
+        let found = self.region_ref(f);
+        if found.is_none() && !self.is_unmade_voxel_region(&f.text) {
+            let (col, len) = (f.col, f.len());
+            self.warn(
+                i,
+                col,
+                len,
+                format!("ASSIGNMA refers to undefined region `{}`", f.text),
+            );
+        }
+        found
     }
 }

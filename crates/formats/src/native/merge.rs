@@ -59,9 +59,7 @@ pub fn merge(
     }
     for (mut region, props) in other.geometry.regions.into_iter().zip(other.regions) {
         for zone in &mut region.zones {
-            for term in &mut zone.terms {
-                term.body += offset;
-            }
+            shift_bodies(zone, offset);
         }
         scene.push_region(region, props);
     }
@@ -81,4 +79,16 @@ pub fn merge(
     scene.camera = scene.camera.or(other.camera);
     scene.size = scene.size.or(other.size);
     Ok(())
+}
+
+/// Every body term of `zone`, its groups' included, moved up by `offset`.
+fn shift_bodies(zone: &mut sv_geom::Zone, offset: usize) {
+    for term in &mut zone.terms {
+        term.body += offset;
+    }
+    for group in &mut zone.groups {
+        for inner in &mut group.zones {
+            shift_bodies(inner, offset);
+        }
+    }
 }

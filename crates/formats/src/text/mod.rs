@@ -59,11 +59,12 @@ pub(crate) const SCRIPT: Syntax = Syntax {
     strings: true,
 };
 
-/// FLUKA free format: words between blanks or commas, `!` comments, `*` in
-/// column 1 a comment card.
+/// FLUKA free format: words between blanks or the separators of its free
+/// geometry format (`,` `;` `:` `%` `\`), `!` comments, `*` in column 1 a
+/// comment card.
 pub(crate) const FLUKA: Syntax = Syntax {
     punctuation: "",
-    separators: ",",
+    separators: ",;:%\\",
     comment: '!',
     comment_card: Some(CommentCard::FirstColumn('*')),
     strings: false,
@@ -279,6 +280,10 @@ mod tests {
         assert!(tokens("* a comment", 1, &FLUKA).is_empty());
         assert_eq!(shown(" * not one", &FLUKA), ["*", "not", "one"]);
         assert_eq!(shown("RPP a,1 2 ! c", &FLUKA), ["RPP", "a", "1", "2"]);
+        assert_eq!(
+            shown("SPH b;0:0 % 0\\1", &FLUKA),
+            ["SPH", "b", "0", "0", "0", "1"]
+        );
         assert_eq!(shown("a,b c", &FLUKA_BLANKS), ["a,b", "c"]);
         assert_eq!(
             shown("+a -(b|c2)", &FLUKA_REGION),

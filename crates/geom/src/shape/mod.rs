@@ -163,6 +163,27 @@ impl Shape {
         }
     }
 
+    /// Bounds of the space outside the body (the closure of its
+    /// complement): all space, but for a half-space whose plane is normal
+    /// to an axis, whose outside is the other half-space. A zone that
+    /// subtracts such a body is bounded by it (`+ZCC +XYP -XYP` is a finite
+    /// cylinder).
+    pub fn outside_bounds(&self) -> Aabb {
+        let mut bounds = Aabb::INFINITE;
+        if let Shape::Polyhedron(p) = self {
+            if let [plane] = p.planes() {
+                for a in 0..3 {
+                    if plane.n[a] == 1.0 {
+                        bounds.min[a] = plane.d;
+                    } else if plane.n[a] == -1.0 {
+                        bounds.max[a] = -plane.d;
+                    }
+                }
+            }
+        }
+        bounds
+    }
+
     /// True for shapes whose segments are always a single convex stretch.
     pub fn is_convex(&self) -> bool {
         !matches!(

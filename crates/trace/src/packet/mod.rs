@@ -230,8 +230,12 @@ impl<S: Simd> NearestHit<S> {
         // Written only for the lanes of `in_lanes`.
         let mut out = [const { MaybeUninit::<LaneValues>::uninit() }; 3];
         let mut in_lanes = 0;
-        // Inside a region, or on no body: facing the ray.
-        let facing = s.or(self.inside, s.eq(self.a.body, s.splat(f64::from(u32::MAX))));
+        // Inside a region, or on no body: facing the ray; or on a surface
+        // inside a filled region, whose normal the hit carries: one by one.
+        let facing = s.or(
+            self.inside,
+            s.ge(self.a.body, s.splat(f64::from(Bound::NESTED))),
+        );
         let mut todo = hit & !s.bits(facing);
         let mut one_by_one = hit & s.bits(facing);
         let bodies = LaneValues::of(s, self.a.body);
@@ -344,6 +348,10 @@ impl Prepared {
         if !s.any(m) {
             return;
         }
+        if z.is_filled() {
+            self.consider_filled_lanes(s, zi, r, m, b, sc);
+            return;
+        }
         let (mut sp, mut valid, scalar) = if z.lanes {
             self.zone_lanes(s, z, r, m, b.tmin, b.limit)
         } else {
@@ -405,6 +413,61 @@ impl Prepared {
             s.splat(self.tol),
         );
         b.limit = s.select(better, s.add(t, slack), b.limit);
+    }
+
+    /// [`Prepared::consider_lanes`] of filled zone `zi` for the lanes of
+    /// `m`, one ray at a time by the scalar code: what fills a region is
+    /// traced in its own frame.
+    #[inline(never)]
+    fn consider_filled_lanes<S: Simd>(
+        &self,
+        s: S,
+        zi: u32,
+        r: &Lanes<S>,
+        m: S::M,
+        b: &mut NearestHit<S>,
+        sc: &mut Scratch,
+    ) {
+        let rays = lane_rays(s, r);
+        let tmin = LaneValues::of(s, b.tmin).0[0];
+        let [mut t, mut region, mut zone, mut limit] =
+            [b.t, b.region, b.zone, b.limit].map(|x| LaneValues::of(s, x));
+        let [mut at, mut body, mut face] =
+            [b.a.t, b.a.body, b.a.face].map(|x| LaneValues::of(s, x));
+        let (lanes, mut inside) = (s.bits(m), s.bits(b.inside));
+        for (j, ray) in rays.iter().enumerate().take(S::LANES) {
+            if lanes & (1 << j) == 0 {
+                continue;
+            }
+            let mut best = Hit {
+                t: t.0[j],
+                region: region.0[j] as u32,
+                bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
+                inside: inside & (1 << j) != 0,
+                zone: zone.0[j] as u32,
+            };
+            sc.new_ray();
+            self.consider(zi, ray, tmin, &mut limit.0[j], &mut best, sc);
+            t.0[j] = best.t;
+            region.0[j] = f64::from(best.region);
+            zone.0[j] = f64::from(best.zone);
+            at.0[j] = best.bound.t;
+            body.0[j] = f64::from(best.bound.body);
+            face.0[j] = f64::from(best.bound.face_flip());
+            inside = (inside & !(1 << j)) | (u32::from(best.inside) << j);
+        }
+        (b.t, b.region, b.zone, b.limit) = (
+            s.load(&t.0),
+            s.load(&region.0),
+            s.load(&zone.0),
+            s.load(&limit.0),
+        );
+        b.a = End {
+            t: s.load(&at.0),
+            body: s.load(&body.0),
+            face: s.load(&face.0),
+        };
+        b.inside = s.mask(inside);
     }
 
     /// The zone's first span (its entry: distance, body, face) for the rays

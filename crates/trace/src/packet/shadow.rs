@@ -3,7 +3,7 @@
 use super::LaneValues;
 use crate::hit::Scratch;
 use crate::lightbuf::{Grid, LightBuffer, Place};
-use crate::prepare::{Prepared, PreparedZone};
+use crate::prepare::Prepared;
 use sv_math::lanes::{box_lanes, dot, splat3, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
@@ -183,7 +183,7 @@ impl Prepared {
             (0, s.bits(m))
         };
         if scalar != 0 {
-            found |= self.blocks_one_by_one(z, from, along, scalar, tmin, sc);
+            found |= self.blocks_one_by_one(zi, from, along, scalar, tmin, sc);
         }
         found
     }
@@ -192,7 +192,7 @@ impl Prepared {
     #[inline(never)]
     fn blocks_one_by_one(
         &self,
-        z: &PreparedZone,
+        zi: u32,
         from: &[(DVec3, Option<u32>)],
         along: &Ray,
         lanes: u32,
@@ -206,7 +206,7 @@ impl Prepared {
             }
             let ray = Ray { origin, ..*along };
             sc.new_ray();
-            if self.zone_spans(z, &ray, tmin, f64::INFINITY, sc) {
+            if self.zone_blocks(zi, &ray, tmin, f64::INFINITY, sc) {
                 found |= 1 << j;
             }
         }

@@ -1,3 +1,6 @@
 //! Integration tests of the geometry engine.
 mod bodies;
+mod fills;
+mod halfspace;
 mod regions;
+mod trees;

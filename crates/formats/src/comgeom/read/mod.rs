@@ -8,14 +8,11 @@ use super::card::{cards, parse_int, Card};
 use super::kind_for;
 use crate::diag::count;
 use crate::{DeckVersion, Diagnostic, Diagnostics, LoadOptions, Loaded, SourceFile};
-use sv_geom::{Body, Geometry, Region, Zone};
+use sv_geom::{Body, Geometry, Region};
 use sv_scene::{RegionProps, Scene, Units};
 
-/// Most zones a region may expand to when it refers to other regions.
-pub const MAX_ZONES: usize = 4096;
-/// Most terms in one zone after expanding region references.
-const MAX_TERMS: usize = 4096;
-/// Most terms that expanding all region references of a deck may produce.
+/// Most terms that copying referenced regions into others may produce in
+/// a deck.
 const MAX_EXPANSION: usize = 1 << 21;
 /// Most diagnostics kept for one deck (the rest are counted).
 const MAX_DIAGNOSTICS: usize = 200;
@@ -128,7 +125,6 @@ struct RawRegion {
     line: usize,
     zones: Vec<Vec<RawTerm>>,
     comment: String,
-    has_refs: bool,
 }
 
 struct Reader<'a> {
@@ -370,7 +366,6 @@ impl<'a> Reader<'a> {
         };
         for ((raw, zones), mut p) in regions.iter().zip(zones).zip(props) {
             p.transparent = p.air != 0;
-            let zones = zones.into_iter().map(Zone::new).collect();
             scene.push_region(Region::new(raw.number.to_string(), zones), p);
         }
         Some(scene)

@@ -77,7 +77,6 @@ impl<'a> Reader<'a> {
                     line: card.line,
                     zones: vec![Vec::new()],
                     comment: card.rest(field_start + 63).trim().to_string(),
-                    has_refs: false,
                 });
             }
             let region = regions.last_mut().expect("a region exists");
@@ -166,7 +165,6 @@ impl<'a> Reader<'a> {
         if new_zone && region.zones.last().is_some_and(|z| !z.is_empty()) {
             region.zones.push(Vec::new());
         }
-        region.has_refs |= region_ref;
         let term = RawTerm {
             region_ref,
             negate: n < 0 || op_minus,

@@ -1,4 +1,4 @@
-//! Region references expand to the same point sets, within limits.
+//! Region references become groups of the same point sets.
 
 use super::*;
 
@@ -8,11 +8,14 @@ fn in_zones(zones: &[sv_geom::Zone], inside: &dyn Fn(usize) -> bool) -> bool {
         z.terms
             .iter()
             .all(|t| inside(t.body) == (t.op == Op::Inside))
+            && z.groups
+                .iter()
+                .all(|g| in_zones(&g.zones, inside) == (g.op == Op::Inside))
     })
 }
 
 #[test]
-fn region_references_expand_to_the_same_point_sets() {
+fn region_references_hold_the_same_point_sets() {
     // Region 1 = (1 - 2) OR 3; region 2 = 4 OR (5 - 6);
     // region 3 = 5 + region 1 - region 2; region 4 = 6 - region 3 OR 1.
     let bodies: Vec<String> = (1..=6).map(sph).collect();
@@ -39,15 +42,28 @@ fn region_references_expand_to_the_same_point_sets() {
             );
         }
     }
-    // The expansion is plain body terms, so it writes and reads back.
-    assert_eq!(round_trip(&l.scene).geometry, *g);
+    // A deck cannot nest: written, the groups are expanded into zones of
+    // body terms, which read back to the same point sets.
+    let back = round_trip(&l.scene).geometry;
+    for bits in 0u32..64 {
+        let b = |i: usize| bits & (1 << i) != 0;
+        for (i, region) in back.regions.iter().enumerate() {
+            assert!(region.zones.iter().all(|z| z.groups.is_empty()));
+            assert_eq!(
+                in_zones(&region.zones, &b),
+                in_zones(&g.regions[i].zones, &b),
+                "region {} bodies {bits:06b}",
+                i + 1
+            );
+        }
+    }
 }
 
 #[test]
-fn region_expansion_is_capped() {
-    // Region 1 is the union of 9 one-term zones; intersecting it three times
-    // gives 9^3 = 729 zones. Region 2 is one zone of 9 terms, so subtracting
-    // it splits each zone in 9: 6561 zones, over the cap.
+fn region_references_are_not_expanded() {
+    // Region 1 is the union of 9 one-term zones; region 3 intersects it
+    // three times and subtracts region 2, one zone of 9 terms: 6561 zones
+    // if expanded, three groups and a group here.
     let bodies: Vec<String> = (1..=18).map(sph).collect();
     let wide: Vec<(&str, i64)> = (1..=9)
         .map(|n| if n == 1 { ("", n) } else { ("OR", n) })
@@ -61,8 +77,40 @@ fn region_expansion_is_capped() {
         ),
         v5_region("3", &[("G", 1), ("G", 1), ("G", 1), ("G", -2)]),
     ];
-    let errs = errors(&v5_deck(18, 3, &bodies, &regions));
-    assert_eq!(errs, ["line 23, columns 30–34: region 3: subtracting region 2 expands to more than 4096 zones"]);
+    let l = read_text("wide.cg", &v5_deck(18, 3, &bodies, &regions)).unwrap();
+    let region = &l.scene.geometry.regions[2];
+    assert_eq!(region.zones.len(), 1);
+    let groups: Vec<(Op, usize)> = region.zones[0]
+        .groups
+        .iter()
+        .map(|g| (g.op, g.zones.len()))
+        .collect();
+    assert_eq!(
+        groups,
+        [
+            (Op::Inside, 9),
+            (Op::Inside, 9),
+            (Op::Inside, 9),
+            (Op::Outside, 1)
+        ]
+    );
+}
+
+#[test]
+fn copies_of_referenced_regions_are_capped() {
+    // Each region refers to the one before twice: copying region 40 would
+    // take 2^40 terms.
+    let bodies = [sph(1)];
+    let mut regions = vec![v5_region("1", &[("", 1)])];
+    for n in 2..=40 {
+        regions.push(v5_region(&n.to_string(), &[("G", n - 1), ("G", n - 1)]));
+    }
+    let errs = errors(&v5_deck(1, 40, &bodies, &regions));
+    assert!(
+        errs.iter()
+            .any(|e| e.contains("region references copy more than")),
+        "{errs:?}"
+    );
 }
 
 #[test]
@@ -93,8 +141,11 @@ fn a_first_region_card_may_start_with_an_operator() {
     ];
     let l = read_text("op.cg", &v5_deck(2, 2, &bodies, &regions)).unwrap();
     assert_eq!(l.scene.geometry.regions[0].zones[0].terms, terms(&[1, -2]));
-    // Region 1 intersected with body 1 again: the repeated term is dropped.
-    assert_eq!(l.scene.geometry.regions[1].zones[0].terms, terms(&[1, -2]));
+    // Region 2 is body 1 and region 1, a group.
+    let zone = &l.scene.geometry.regions[1].zones[0];
+    assert_eq!(zone.terms, terms(&[1]));
+    assert_eq!(zone.groups.len(), 1);
+    assert_eq!(zone.groups[0].zones[0].terms, terms(&[1, -2]));
     // Without the control card's count it is still not read as a body.
     let deck = v5_deck(2, 2, &bodies, &regions).replacen("    2    2", "    0    0", 1);
     let l = read_ok("op.cg", &deck);

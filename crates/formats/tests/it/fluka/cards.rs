@@ -1,6 +1,7 @@
 //! Materials, titles, lattices and comments.
 
 use super::*;
+use sv_geom::Fill;
 
 #[test]
 fn materials_and_black_holes() {
@@ -8,28 +9,31 @@ fn materials_and_black_holes() {
         return;
     };
     let i = l.scene.geometry.region_index("blackhole").unwrap();
-    assert!(l.scene.regions[i].transparent);
-    assert_eq!(l.scene.regions[i].description, "material: BLCKHOLE");
+    let black = &l.scene.regions[i];
+    assert!(black.transparent && black.outside);
+    assert_eq!(black.description, "material: BLCKHOLE");
+    assert_eq!(
+        (black.material, black.material_name.as_deref()),
+        (1, Some("BLCKHOLE"))
+    );
     let j = l.scene.geometry.region_index("rppreg").unwrap();
-    assert!(!l.scene.regions[j].transparent);
-    assert_eq!(l.scene.regions[j].description, "material: BERYLLIU");
+    let beryllium = &l.scene.regions[j];
+    assert!(!beryllium.transparent && !beryllium.outside);
+    assert_eq!(beryllium.description, "material: BERYLLIU");
+    // Beryllium is FLUKA's predefined material 5.
+    assert_eq!(
+        (beryllium.material, beryllium.material_name.as_deref()),
+        (5, Some("BERYLLIU"))
+    );
     // `ASSIGNMA BLCKHOLE bbr` names a region that does not exist.
-    let w: Vec<_> = l
-        .warnings
-        .iter()
-        .map(|w| (w.line_col(), w.message.as_str()))
-        .collect();
-    assert_eq!(w, [((18, 28), "ASSIGNMA refers to undefined region `bbr`")]);
+    assert_eq!(
+        warnings(&l),
+        [((18, 28), "ASSIGNMA refers to undefined region `bbr`")]
+    );
     // A range: ASSIGNMA , BERYLLIU, BE3, BE4 (free format).
     let l = input("manualSimpleFileFixed.inp").unwrap();
-    let d: Vec<_> = l
-        .scene
-        .regions
-        .iter()
-        .map(|p| p.description.as_str())
-        .collect();
     assert_eq!(
-        d,
+        descriptions(&l),
         [
             "material: BLCKHOLE",
             "material: VACUUM",
@@ -81,18 +85,35 @@ fn titles() {
 }
 
 #[test]
-fn lattice_containers_are_kept_and_noted() {
+fn lattice_cells_hold_the_prototype_moved_by_the_inverse_transformation() {
     let Some(l) = input("701_LATTICE.inp") else {
         return;
     };
-    assert_eq!(
-        l.scene.notes,
-        ["LATTICE replicas are not drawn: lattice cell REPLICA is drawn as a plain region (its container only)"]
-    );
+    assert!(l.scene.notes.is_empty(), "{:?}", l.scene.notes);
+    // The container was made by `$start_transform -Rotdefi1` around a copy
+    // of the prototype's body: the prototype moved into the cell is the
+    // container itself.
+    let cell = region(&l, "REPLICA");
+    let Some(Fill::Universe {
+        universe: 0,
+        region_from_universe,
+    }) = &cell.fill
+    else {
+        panic!("REPLICA is not filled with the model: {:?}", cell.fill);
+    };
+    let moved = body(&l, "target")
+        .transformed(region_from_universe)
+        .unwrap();
+    assert_close(&moved.params, &body(&l, "targRepl").params);
+    assert!(region(&l, "TARGET").fill.is_none());
     let l = input("702_LATTICE.inp").unwrap();
-    assert!(l.scene.geometry.region_index("REPLICA").is_some());
     assert_eq!(zones(&l, "REPLICA"), ["+repl -repl2"]);
-    assert_eq!(l.scene.notes, ["LATTICE replicas are not drawn: lattice cells REPLICA, REPLIC2 are drawn as plain regions (their containers only)"]);
+    for name in ["REPLICA", "REPLIC2"] {
+        assert!(matches!(
+            region(&l, name).fill,
+            Some(Fill::Universe { universe: 0, .. })
+        ));
+    }
     let text =
         geo("SPH a 0 0 0 1", "r 5 +a").replace("END\nGEOEND", "END\nLATTICE      cell\nGEOEND");
     assert_eq!(
@@ -120,4 +141,15 @@ fn comments_are_skipped() {
     );
     let l = read_text(&text).unwrap();
     assert_eq!(zones(&l, "r"), ["+a"]);
+}
+
+#[test]
+fn nothing_after_stop_is_read() {
+    // FLUKA stops reading at STOP: later cards (even a second geometry)
+    // are notes, not input.
+    let text = geo("SPH a 0 0 0 1", "r 5 +a")
+        + "ASSIGNMA        IRON         r\nSTOP\nASSIGNMA        LEAD         r\nGEOBEGIN\nnotes\n";
+    let l = read_text(&text).unwrap();
+    assert_eq!(l.scene.regions[0].material_name.as_deref(), Some("IRON"));
+    assert!(l.warnings.is_empty());
 }

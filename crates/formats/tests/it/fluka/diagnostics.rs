@@ -2,14 +2,6 @@
 
 use super::*;
 
-/// A fresh directory under the system temp dir.
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sv-fluka-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 #[test]
 fn include_is_relative_to_the_including_file_and_nests() {
     let d = temp_dir("inc");
@@ -200,7 +192,7 @@ fn directive_errors() {
 #[test]
 fn region_errors() {
     let bodies = "SPH ball 0 0 0 1\nSPH world 0 0 0 9";
-    let cases: [(&str, (usize, usize, &str)); 9] = [
+    let cases: [(&str, (usize, usize, &str)); 10] = [
         ("r 5 +world -bal", (8, 13, "region `r` refers to undefined body `bal`")),
         ("r 5 +world -(+ball", (8, 13, "in region `r`: `(` is never closed")),
         ("r 5 +world )", (8, 12, "in region `r`: unexpected `)` with no `(` open")),
@@ -208,8 +200,9 @@ fn region_errors() {
         ("r 5 +world -", (8, 13, "in region `r`: expected a body name, found the end of the region")),
         ("r 5", (8, 1, "region `r` has no expression")),
         ("r 5 +world\nr 5 +ball", (9, 1, "region `r` is defined twice")),
-        ("r 5 +world\nworld -ball", (9, 1, "expected a region name and its NAZ number, or a line continuing a region with `+`, `-`, `|` or `(`; found `world`")),
+        ("r 5 +world\n-bal", (9, 2, "region `r` refers to undefined body `bal`")),
         ("+world\nr 5 +ball", (8, 1, "region expression outside a region: expected a region name and its NAZ number first")),
+        ("world\nr 5 +ball", (8, 1, "expected a region name and its NAZ number, found `world`")),
     ];
     for (regions, (l, c, msg)) in cases {
         assert_eq!(
@@ -227,24 +220,6 @@ fn region_errors() {
     assert_eq!(
         errors(&geo(bodies, &deep))[0].2,
         "in region `r`: parentheses nested more than 64 levels deep"
-    );
-}
-
-#[test]
-fn zone_blow_up_is_an_error() {
-    let bodies: String = (0..40).map(|i| format!("SPH s{i} 0 0 0 1\n")).collect();
-    // −(a₁ b₁) −(a₂ b₂) … : 2²⁰ zones.
-    let expr: String = (0..20)
-        .map(|i| format!("-(+s{} +s{}) ", 2 * i, 2 * i + 1))
-        .collect();
-    let e = errors(&geo(&bodies, &format!("r 5 {expr}")));
-    assert_eq!(
-        e,
-        [(
-            47,
-            1,
-            "region `r` expands to more than 100000 zones".to_string()
-        )]
     );
 }
 
@@ -343,34 +318,10 @@ fn structure_errors() {
     assert_eq!(
         errors(&text),
         [(
-            11,
+            10,
             1,
             "second GEOBEGIN card: an input holds one geometry".to_string()
         )]
-    );
-}
-
-#[test]
-fn fixed_format_numbered_geometry_is_refused_by_name() {
-    let text = "GEOBEGIN                                                              COMBINAT\n    0    0\n  SPH    1       0.0       0.0       0.0       1.0\n  END\n  001    5 +1\n  END\nGEOEND\n";
-    let e = read_text(text).unwrap_err();
-    let d = e.errors().next().unwrap();
-    assert_eq!(
-        d.message,
-        "the fixed-format numbered geometry (GEOBEGIN SDUM `COMBINAT`) is not supported"
-    );
-    assert_eq!(d.line_col(), (1, 71));
-    assert_eq!(
-        d.hint.as_deref(),
-        Some("write the geometry in free format with names: GEOBEGIN with SDUM COMBNAME")
-    );
-    let blank = "GEOBEGIN\n    0    0\nEND\nEND\nGEOEND\n";
-    assert_eq!(errors(blank)[0].2, "the fixed-format numbered geometry (GEOBEGIN blank SDUM, which means COMBINAT) is not supported");
-    let unit = "GEOBEGIN                      21.                                     COMBNAME\n";
-    let unit = format!("{unit}    0    0\nEND\nEND\nGEOEND\n");
-    assert_eq!(
-        errors(&unit)[0].2,
-        "geometry read from a separate logical unit (GEOBEGIN WHAT(3) = 21.) is not supported"
     );
 }
 
@@ -384,7 +335,7 @@ fn rot_defi_errors() {
     assert_eq!(
         errors(&text),
         [(
-            11,
+            10,
             17,
             "ROT-DEFI axis code j = 5 is not 1 (x), 2 (y) or 3 (z)".to_string()
         )]
@@ -393,7 +344,7 @@ fn rot_defi_errors() {
     assert_eq!(
         errors(&text),
         [(
-            11,
+            10,
             19,
             "expected a number in ROT-DEFI WHAT(2), found `abc`".to_string()
         )]

@@ -425,27 +425,28 @@ fn turned_infinite_bodies_take_their_general_forms() {
 }
 
 #[test]
-fn regions_become_unions_of_zones() {
+fn regions_keep_their_parentheses_as_groups() {
     let Some(l) = input("101_Intersection.inp") else {
         return;
     };
-    assert_eq!(
-        zones(&l, "blackhole"),
-        ["+blackhole -rpp1", "+blackhole -rpp2"]
-    );
+    assert_eq!(zones(&l, "blackhole"), ["+blackhole -(+rpp1 +rpp2)"]);
     assert_eq!(zones(&l, "intreg"), ["+rpp1 +rpp2"]);
     let l = input("102_Difference.inp").unwrap();
-    assert_eq!(
-        zones(&l, "blackhole"),
-        ["+blackhole -rpp1", "+blackhole +rpp2"]
-    );
+    assert_eq!(zones(&l, "blackhole"), ["+blackhole -(+rpp1 -rpp2)"]);
     assert_eq!(zones(&l, "subreg"), ["+rpp1 -rpp2"]);
     let l = input("103_Union.inp").unwrap();
     assert_eq!(zones(&l, "unionreg"), ["+rpp1", "+rpp2"]);
     assert_eq!(zones(&l, "blackhole"), ["+blackhole -rpp1 -rpp2"]);
-    // Three subtracted six-plane cubes: 6 × 6 × 6 zones.
+    // Three subtracted six-plane cubes: one zone, three groups of six
+    // terms (216 zones if it were expanded).
     let l = input("310_XYP_transform.inp").unwrap();
-    assert_eq!(region(&l, "blackhol").zones.len(), 216);
+    let r = region(&l, "blackhol");
+    assert_eq!(r.zones.len(), 1);
+    assert_eq!(r.zones[0].groups.len(), 3);
+    assert!(r.zones[0]
+        .groups
+        .iter()
+        .all(|g| g.zones.len() == 1 && g.zones[0].terms.len() == 6));
     let l = input("ex-geometry.inp").unwrap();
     assert_eq!(
         zones(&l, "DIP_OUT_"),
@@ -460,8 +461,8 @@ fn nested_parentheses_and_unions_inside_them() {
         "r1 5 +d -(+a | +b -(+c))\nr2 5 | +a +(+b | +c)\n       | -d\nr3 5 (+a -b) c",
     );
     let l = read_text(&text).unwrap();
-    assert_eq!(zones(&l, "r1"), ["+d -a -b", "+d -a +c"]);
-    assert_eq!(zones(&l, "r2"), ["+a +b", "+a +c", "-d"]);
+    assert_eq!(zones(&l, "r1"), ["+d -(+a | +b -c)"]);
+    assert_eq!(zones(&l, "r2"), ["+a +(+b | +c)", "-d"]);
     assert_eq!(zones(&l, "r3"), ["+a -b +c"]);
 }
 
@@ -492,12 +493,33 @@ fn ifdef_ifndef_undef() {
         "r 5 +x +y",
     );
     let l = read_text(&text).unwrap();
-    let names: Vec<_> = l
-        .scene
-        .geometry
-        .bodies
-        .iter()
-        .map(|b| b.name.as_str())
-        .collect();
-    assert_eq!(names, ["x", "y"]);
+    assert_eq!(body_names(&l), ["x", "y"]);
+}
+
+#[test]
+fn pyramids_become_polyhedra_of_their_corners() {
+    // The manual's example: a PYZ truncated to 0.8 of its major base, and a
+    // full PYX.
+    let l = read_text(&geo(
+        "PYZ body3 0.0 0.5 -10.0 +20.0 +40.0 50.0 0.8\nPYX apex 1 0 0 2 3 -4 0",
+        "r 5 +body3\nq 5 +apex",
+    ))
+    .unwrap();
+    let b = body(&l, "body3");
+    assert_eq!(b.kind, BodyKind::Arb8);
+    assert_close(&b.params[..3], &[-20.0, -39.5, -10.0]);
+    assert_close(&b.params[18..21], &[16.0, 32.5, 40.0]);
+    let a = body(&l, "apex");
+    assert_eq!(a.kind, BodyKind::Arb5);
+    assert_close(&a.params[..3], &[1.0, -2.0, -3.0]);
+    assert_close(&a.params[12..], &[-3.0, 0.0, 0.0]);
+    let e = errors(&geo("PYY p 0 0 0 1 1 5 1.5", "r 5 +p"));
+    assert_eq!(
+        e,
+        [(
+            5,
+            1,
+            "PYY `p`: its ratio R = 1.5 must be at least 0 and below 1".to_string()
+        )]
+    );
 }

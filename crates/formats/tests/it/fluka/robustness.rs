@@ -2,20 +2,24 @@
 
 use super::*;
 
-/// Every input of the data set, for mutation.
+/// Every input of the data sets, and a numbered one, for mutation.
 fn corpus() -> Vec<String> {
+    let mut texts = vec![
+        geo("SPH a 0 0 0 1", "r 5 +a -(+a | -a)"),
+        super::fixed::MANUAL_EXAMPLE.to_string(),
+    ];
     let Some(dir) = data_dir() else {
-        return vec![geo("SPH a 0 0 0 1", "r 5 +a -(+a | -a)")];
+        return texts;
     };
-    let mut names: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
+    let field = sv_testdata::shared_decks("fluka/field").unwrap();
+    let mut names: Vec<_> = [dir, field.clone(), field.join("cosmic_atm")]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
+        .filter(|p| p.is_file() && !p.ends_with("README.md"))
         .collect();
     names.sort();
-    names
-        .iter()
-        .map(|p| std::fs::read_to_string(p).unwrap())
-        .collect()
+    texts.extend(names.iter().map(|p| std::fs::read_to_string(p).unwrap()));
+    texts
 }
 
 #[derive(Clone, Debug)]
@@ -111,6 +115,13 @@ proptest! {
         let _ = read_text(&input);
         let _ = read_text(&format!("{input}\nEND\nr 5 +a\nEND\nGEOEND\n"));
     }
+
+    #[test]
+    fn arbitrary_numbered_geometry_never_panics(text in "(( {0,4}[A-Z0-9+ORD.-]{0,12}){0,8}\n){0,20}") {
+        let input = format!("GEOBEGIN                                                              COMBINAT\n    0  -10\n{text}");
+        let _ = read_text(&input);
+        let _ = read_text(&format!("{input}\n  END\n  R1     5     +1\n  END\nGEOEND\n"));
+    }
 }
 
 #[test]
@@ -170,14 +181,26 @@ fn lattice_ranges_cover_every_region_between() {
     )
     .replace("END\nGEOEND", "END\nLATTICE   , r1, r3, , , , , t\nGEOEND");
     let l = read_text(&text).unwrap();
-    assert_eq!(
-        l.scene.notes.last().unwrap(),
-        "LATTICE replicas are not drawn: lattice cells r1, r2, r3 are drawn as plain regions (their containers only)"
-    );
+    // No ROT-DEFI `t`: the cells are left empty, with FLUKA's rule in the hint.
+    assert!(l.scene.geometry.regions.iter().all(|r| r.fill.is_none()));
     assert_eq!(
         l.warnings[0].message,
         "LATTICE transformation `t` has no ROT-DEFI card"
     );
+    assert!(l.warnings[0].hint.as_deref().unwrap().contains(
+        "bringing any point of the lattice cell to the corresponding point of the basic unit"
+    ));
+    let defined = format!("{text}ROT-DEFI  , 0, 0, 0, 10, 0, 0, t\n");
+    let l = read_text(&defined).unwrap();
+    let filled: Vec<&str> = l
+        .scene
+        .geometry
+        .regions
+        .iter()
+        .filter(|r| r.fill.is_some())
+        .map(|r| r.name.as_str())
+        .collect();
+    assert_eq!(filled, ["r1", "r2", "r3"]);
 }
 
 #[test]

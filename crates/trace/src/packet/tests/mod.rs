@@ -10,7 +10,7 @@ use super::shadow::*;
 use super::*;
 use crate::LightBuffer;
 use rand::Rng;
-use sv_geom::{Body, BodyKind, Geometry, Op, Region, Term, Zone};
+use sv_geom::{Body, BodyKind, Geometry, Group, Op, Region, Term, Zone};
 use sv_math::simd::Portable;
 use sv_math::{DVec3, RayGen};
 
@@ -202,6 +202,22 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
         zone(&[cube], &[ring]),
         zone(&[ball], &[tgc]),
         zone(&[cube], &[slab, ring]),
+        // Groups: the cube less the union of the ball and the slab; the
+        // ball and the cube's low half, whichever is nearer.
+        Zone {
+            groups: vec![Group {
+                op: Op::Outside,
+                zones: vec![zone(&[ball], &[]), zone(&[slab], &[])],
+            }],
+            ..zone(&[cube], &[])
+        },
+        Zone {
+            groups: vec![Group {
+                op: Op::Inside,
+                zones: vec![zone(&[ball], &[ring]), zone(&[low], &[])],
+            }],
+            ..zone(&[], &[cyl])
+        },
     ];
     let count = made.len();
     for (r, z) in made.into_iter().enumerate() {

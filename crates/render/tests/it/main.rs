@@ -1,0 +1,3 @@
+//! Integration tests of the renderer.
+mod differential;
+mod pictures;

@@ -67,12 +67,20 @@ impl<'a> Eval<'a> {
         out
     }
 
+    /// Every region on the way down to `p`, outermost first.
+    pub fn regions(&self, p: DVec3) -> Vec<usize> {
+        self.steps(p)
+            .iter()
+            .filter_map(|s| match s {
+                Step::Region(r) => Some(*r),
+                Step::Element(_) => None,
+            })
+            .collect()
+    }
+
     /// The deepest region holding `p`.
     pub fn deepest(&self, p: DVec3) -> Option<usize> {
-        self.steps(p).iter().rev().find_map(|s| match s {
-            Step::Region(r) => Some(*r),
-            Step::Element(_) => None,
-        })
+        self.regions(p).pop()
     }
 
     /// The name of the deepest region holding `p`.

@@ -6,6 +6,7 @@ mod cells;
 mod decks;
 mod diagnostics;
 mod eval;
+mod render;
 mod robustness;
 mod surfaces;
 

@@ -18,12 +18,12 @@ pub struct Input {
 }
 
 impl Input {
-    /// Whether overlaps with air regions count. FLUKA and OpenMC have no
-    /// rule that air gives way (FLUKA's `VACUUM` and `AIR` regions and
-    /// OpenMC's void cells get air code 1 from the readers): for their
-    /// inputs every overlap counts.
+    /// Whether overlaps with air regions count. FLUKA, MCNP and OpenMC
+    /// have no rule that air gives way (their readers give FLUKA's `VACUUM`
+    /// and `AIR` regions and MCNP's and OpenMC's void cells air code 1):
+    /// for their inputs every overlap counts.
     pub fn strict_air(&self) -> bool {
-        matches!(self.format, Format::Fluka | Format::OpenMc)
+        matches!(self.format, Format::Fluka | Format::Mcnp | Format::OpenMc)
     }
 }
 

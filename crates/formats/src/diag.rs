@@ -138,6 +138,16 @@ impl Diagnostic {
         Diagnostic::error_at(source, span.line.max(1), span.col.max(1), span.len, message)
     }
 
+    /// The line that ends a report cut short after this diagnostic: `… and
+    /// {n} more errors`, standing for the `n` errors not listed.
+    pub(crate) fn unlisted(&self, n: usize) -> Diagnostic {
+        let mut d = self.clone();
+        d.message = format!("… and {}", count(n, "more error", "more errors"));
+        d.hint = None;
+        d.unlisted_errors = n;
+        d
+    }
+
     /// The same diagnostic as a warning.
     pub fn warning(mut self) -> Diagnostic {
         self.severity = Severity::Warning;

@@ -1,6 +1,7 @@
 //! Readers and writers: the native scene language (`.sv`), COMGEOM/GIFT
-//! fixed-column decks (`.cg`, v1/v4/v5), FLUKA geometry (`.inp`) and OpenMC
-//! models (`geometry.xml`, `model.xml`); and a POV-Ray scene writer
+//! fixed-column decks (`.cg`, v1/v4/v5), FLUKA geometry (`.inp`), MCNP
+//! inputs (`.i`, `.inp`, `.mcnp`, `input`) and OpenMC models
+//! (`geometry.xml`, `model.xml`); and a POV-Ray scene writer
 //! ([`pov`]).
 //!
 //! Every reader turns text into a [`Scene`] or into [`Diagnostics`] that
@@ -11,6 +12,7 @@ mod camera_light;
 pub mod comgeom;
 pub mod diag;
 pub mod fluka;
+pub mod mcnp;
 pub mod native;
 pub mod openmc;
 pub mod pov;
@@ -62,29 +64,45 @@ pub enum Format {
     Fluka,
     /// An OpenMC model (`geometry.xml` and `materials.xml`, or `model.xml`).
     OpenMc,
+    /// An MCNP input.
+    Mcnp,
 }
 
 impl Format {
-    /// Guess the format from the file name, then from the text.
+    /// Guess the format from the file name, then from the text. `.inp`
+    /// is FLUKA's and MCNP's: a FLUKA input has `GEOBEGIN`, an MCNP input
+    /// a title card, cell cards, a blank line and surface cards
+    /// ([`mcnp::looks_like`]); `.i`, `.mcnp` and files named `input` are
+    /// MCNP's unless their text says otherwise.
     pub fn detect(path: &Path, text: &str) -> Format {
         if openmc::is_openmc(path, text) {
             return Format::OpenMc;
         }
-        match path
+        let ext = path
             .extension()
             .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .as_deref()
-        {
+            .map(|e| e.to_ascii_lowercase());
+        let fluka = || text.to_ascii_uppercase().contains("GEOBEGIN");
+        match ext.as_deref() {
             Some("sv") => return Format::Native,
             Some("cg") | Some("g") | Some("comgeom") => return Format::Comgeom,
-            Some("inp") | Some("flair") | Some("geo") | Some("geom") => return Format::Fluka,
+            Some("mcnp") => return Format::Mcnp,
+            Some("inp") | Some("i") if fluka() => return Format::Fluka,
+            Some("inp") | Some("i") if mcnp::looks_like(text) => return Format::Mcnp,
+            Some("inp") => return Format::Fluka,
+            Some("i") => return Format::Mcnp,
+            Some("flair") | Some("geo") | Some("geom") => return Format::Fluka,
             _ => {}
         }
-        let upper = text.to_ascii_uppercase();
-        if upper.contains("GEOBEGIN") {
+        let named_input = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.eq_ignore_ascii_case("input"));
+        if fluka() {
             Format::Fluka
-        } else if upper.lines().any(|l| {
+        } else if named_input || mcnp::looks_like(text) {
+            Format::Mcnp
+        } else if text.to_ascii_uppercase().lines().any(|l| {
             let w = l.split_whitespace().next().unwrap_or("");
             matches!(
                 w,
@@ -114,7 +132,7 @@ pub enum LoadError {
     Invalid(Diagnostics),
 }
 
-/// Read a scene, deck or FLUKA input, choosing the reader by
+/// Read a scene, deck, FLUKA or MCNP input, choosing the reader by
 /// [`Format::detect`]; a folder is read as an OpenMC model
 /// ([`openmc::read_dir`]).
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded, LoadError> {
@@ -141,5 +159,6 @@ pub fn load_source(
         Format::Fluka => fluka::read(src, opts).map_err(LoadError::Invalid),
         Format::Native => native::read(src, opts).map_err(LoadError::Invalid),
         Format::OpenMc => openmc::read(src, opts).map_err(LoadError::Invalid),
+        Format::Mcnp => mcnp::read(src, opts).map_err(LoadError::Invalid),
     }
 }

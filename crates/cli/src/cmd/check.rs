@@ -40,7 +40,7 @@ pub struct CheckArgs {
     #[arg(long)]
     pub json: bool,
     /// Count overlaps with air regions (non-zero air code) as problems too
-    /// (always so for FLUKA inputs).
+    /// (always so for FLUKA and MCNP inputs).
     #[arg(long)]
     pub strict_air: bool,
     /// Exit 0 on a clean report even when some regions were met by no ray

@@ -1,7 +1,9 @@
 //! Integration tests of the readers and writers: COMGEOM decks, FLUKA
-//! inputs, OpenMC models, the scene language and the POV-Ray writer.
+//! inputs, MCNP inputs, OpenMC models, the scene language and the POV-Ray
+//! writer.
 mod comgeom;
 mod fluka;
+mod mcnp;
 mod mutation;
 mod native;
 mod openmc;

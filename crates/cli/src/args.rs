@@ -97,9 +97,18 @@ pub struct ViewArgs {
     /// Turn shadows off (the paper's shading exactly).
     #[arg(long)]
     pub no_shadows: bool,
-    /// A single light at the eye (BRL-CAD's `rt -l1`), no ambient.
+    /// Shade as BRL-CAD's `rt -l1` does: one light at the eye and ambient
+    /// 0.4 (`0.4 + 0.6·cos θ`, grey), whatever the scene's lights,
+    /// colours and reflectances.
     #[arg(long)]
     pub eye_light: bool,
+    /// BRL-CAD `rt`'s picture: its view (orthographic, centred on the
+    /// model's box, as wide as its diagonal; --az/--el as rt's -a/-e,
+    /// default 35/25; --view-size as its size), its sampling (a ray
+    /// through each pixel's lower-left corner) and --eye-light's shading.
+    /// `render DECK --rt --size 512x512` is `rt -s512 -a35 -e25 -l1`.
+    #[arg(long, conflicts_with_all = ["eye", "at", "fov"])]
+    pub rt: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,

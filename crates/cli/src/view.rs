@@ -5,7 +5,7 @@ use crate::args::ViewArgs;
 use crate::error::{bad_input, runtime, CliError};
 use crate::parse::{parse_numbers, parse_size, parse_vec3};
 use sv_math::DVec3;
-use sv_render::{default_camera, Frame, Renderer, Settings, UpAxis, ViewSpec};
+use sv_render::{default_camera, rt_camera, Frame, Renderer, Settings, Shading, UpAxis, ViewSpec};
 use sv_scene::{Lens, Light, LightKind, Scene};
 
 /// Raster size from `--size`, the scene, or 960×720.
@@ -71,16 +71,13 @@ pub fn renderer(
         }
         renderer.camera.lens = Lens::Fov { vertical_deg: fov };
     }
-    if view.eye_light {
-        renderer.lights = vec![Light {
-            name: "EYE".into(),
-            kind: LightKind::Parallel {
-                dir: renderer.camera.dir,
-            },
-            intensity: 1.0,
-            colour: [1.0; 3],
-        }];
-        renderer.set_ambient(0.0);
+    if view.rt {
+        renderer.camera = rt_camera(scene, renderer.prepared(), width, height, &spec);
+    }
+    if view.eye_light || view.rt {
+        // The light is the eye's; none of the scene's lights is used.
+        renderer.lights.clear();
+        renderer.shading = Shading::RtEyeLight;
     } else if scene.lights.is_empty() && !view.cut.is_empty() {
         // A cutaway view: the light comes with the eye, so that the cut
         // faces, which face the viewer, are lit whatever their angle.
@@ -124,9 +121,9 @@ pub fn view_spec(view: &ViewArgs) -> Result<ViewSpec, CliError> {
                 "--view-size must be positive, found {size}"
             )));
         }
-        if !view.ortho {
+        if !view.ortho && !view.rt {
             return Err(bad_input(
-                "--view-size sizes an orthographic view: add --ortho",
+                "--view-size sizes an orthographic view: add --ortho (or --rt)",
             ));
         }
     }

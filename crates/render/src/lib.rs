@@ -21,7 +21,8 @@ mod workspace;
 pub use frame::Frame;
 pub use renderer::Renderer;
 pub use settings::Settings;
-pub use view::{default_camera, default_lights, frame_bounds, UpAxis, ViewSpec};
+pub use shading::Shading;
+pub use view::{default_camera, default_lights, frame_bounds, rt_camera, UpAxis, ViewSpec};
 
 use sv_math::DVec3;
 

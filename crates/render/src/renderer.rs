@@ -9,7 +9,7 @@
 
 use crate::tiles::{Bins, TILE};
 use crate::workspace::{Workers, Workspace};
-use crate::{default_camera, default_lights, Frame, Settings, ViewSpec};
+use crate::{default_camera, default_lights, Frame, Settings, Shading, ViewSpec};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -29,6 +29,8 @@ pub struct Renderer {
     pub camera: Camera,
     /// Lights in use (the scene's or the default light).
     pub lights: Vec<Light>,
+    /// The shading formula: the paper's (default) or `rt -l1`'s.
+    pub shading: Shading,
     pub(crate) ambient: f64,
     background: [f64; 3],
     /// Per region, its reflectance `k` and colour.
@@ -118,6 +120,7 @@ impl Renderer {
                 prepared,
                 camera,
                 lights,
+                shading: Shading::Paper,
                 ambient: scene.ambient,
                 background,
                 looks,

@@ -7,11 +7,31 @@
 //! light at distance `R` with decay `n` and 1 for a parallel light; a light
 //! contributes nothing where `cos θ ≤ 0` or, with shadows on, where an
 //! opaque region blocks it. Values are linear.
+//!
+//! [`Shading::RtEyeLight`] is BRL-CAD's `rt -l1` instead: one light at the
+//! eye and ambient 0.4, `I = 0.4 + 0.6 · max(0, cos θ)`, grey whatever the
+//! region's colour and `k`.
 
 use crate::Renderer;
 use sv_math::{DVec3, Ray};
 use sv_scene::LightKind;
 use sv_trace::{Hit, Occluders, Scratch};
+
+/// Which formula shades a hit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shading {
+    /// The paper's: the scene's lights, `k`, colours and ambient.
+    #[default]
+    Paper,
+    /// BRL-CAD's `rt -l1`: a light at the eye, `0.4 + 0.6 · cos θ`; a ray
+    /// that starts inside a solid is shaded with the normal of the surface
+    /// where it entered that solid behind the eye, as `rt` does (a face
+    /// toward the viewer in [`Shading::Paper`]).
+    RtEyeLight,
+}
+
+/// `rt`'s ambient intensity (its `AmbientIntensity`).
+const RT_AMBIENT: f64 = 0.4;
 
 impl Renderer {
     /// Intensity (linear RGB) of the surface at `hit`.
@@ -34,6 +54,15 @@ impl Renderer {
         occluders: &mut Occluders<'_>,
         s: &mut Scratch,
     ) -> [f64; 3] {
+        if self.shading == Shading::RtEyeLight {
+            let n = if hit.inside {
+                self.prepared().normal_behind(hit, ray, s)
+            } else {
+                n
+            };
+            let cos = -n.dot(ray.dir);
+            return [RT_AMBIENT + (1.0 - RT_AMBIENT) * cos.max(0.0); 3];
+        }
         let p = ray.at(hit.t);
         let (k, colour) = self.looks[hit.region as usize];
         let mut sum = [0.0; 3];

@@ -2,7 +2,7 @@
 //! them.
 
 use sv_math::{Aabb, DVec3};
-use sv_scene::{Camera, Lens, Light, LightKind};
+use sv_scene::{Camera, Lens, Light, LightKind, Scene};
 use sv_trace::Prepared;
 
 /// The axis that points up in a view.
@@ -134,6 +134,57 @@ pub fn default_camera(p: &Prepared, aspect: f64, view: &ViewSpec) -> Camera {
         up,
         lens,
     }
+}
+
+/// BRL-CAD `rt`'s own view of `scene` at `width` × `height`, as its
+/// `-a`/`-e` options set it (`view.az`, `view.el`; `view.view_size`
+/// replaces its size): orthographic, centred on the model's box (the
+/// bodies the regions use, infinite ones aside, widened to whole
+/// millimetres), as wide as that box's diagonal (times the aspect when
+/// wider than tall), the eye √2 half-widths back, and every ray fired
+/// through its pixel's lower-left corner instead of its centre.
+pub fn rt_camera(scene: &Scene, p: &Prepared, width: u32, height: u32, view: &ViewSpec) -> Camera {
+    let mut used = vec![false; scene.geometry.bodies.len()];
+    for region in &scene.geometry.regions {
+        region.for_each_term(&mut |t| used[t.body] = true);
+    }
+    let model = (0..used.len())
+        .filter(|&i| used[i])
+        .map(|i| p.body_bounds(i))
+        .filter(|b| !b.is_empty() && b.is_finite())
+        // The tracer's bounds are padded by its tolerance (`Prepared`).
+        .map(|b| b.padded(-4.0 * p.tolerance()))
+        .fold(Aabb::EMPTY, |acc, b| acc.union(&b));
+    let mm = scene.units.mm();
+    let model = if model.is_empty() {
+        Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0))
+    } else {
+        Aabb::new((model.min * mm).floor() / mm, (model.max * mm).ceil() / mm)
+    };
+    let aspect = f64::from(width) / f64::from(height);
+    let size = view
+        .view_size
+        .unwrap_or_else(|| model.diagonal() * aspect.max(1.0));
+    let (az, el) = (view.az.to_radians(), view.el.to_radians());
+    let toward_eye = view.up.turn_z_up(DVec3::new(
+        el.cos() * az.cos(),
+        el.cos() * az.sin(),
+        el.sin(),
+    ));
+    let mut camera = Camera {
+        eye: model.center() + toward_eye * (std::f64::consts::SQRT_2 * 0.5 * size),
+        dir: -toward_eye,
+        up: view.up.vector(),
+        lens: Lens::Ortho {
+            height: size / aspect,
+        },
+    };
+    // Square pixels `size / width` wide; a ray through the lower-left
+    // corner of each is the centre's ray moved half a pixel left and down.
+    let (right, up, _) = camera.basis();
+    let cell = size / f64::from(width);
+    camera.eye -= (right + up) * (0.5 * cell);
+    camera
 }
 
 /// `eye`, or, when it lies inside opaque regions of `p`, the first point

@@ -103,10 +103,15 @@ pub struct RegionProps {
     pub description: String,
 }
 
+impl RegionProps {
+    /// The reflectance `k` of a region that gives none.
+    pub const DEFAULT_K: f64 = 0.8;
+}
+
 impl Default for RegionProps {
     fn default() -> Self {
         RegionProps {
-            k: 0.8,
+            k: RegionProps::DEFAULT_K,
             colour: None,
             transparent: false,
             ident: 0,

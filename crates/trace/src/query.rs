@@ -387,6 +387,40 @@ impl Prepared {
             n
         }
     }
+
+    /// For a hit whose ray starts inside its region: the outward normal of
+    /// the surface where the ray, followed backwards, entered that region,
+    /// at the point of entry (anywhere on a plane met at −∞). BRL-CAD's
+    /// `rt` shades such a hit with this normal; [`Prepared::normal`]
+    /// gives `-dir` instead, a face toward the viewer. `-dir` too when the
+    /// region has no such surface (all space).
+    pub fn normal_behind(&self, hit: &Hit, ray: &Ray, s: &mut Scratch) -> DVec3 {
+        let mut parts = Vec::new();
+        self.partitions(ray, f64::NEG_INFINITY, f64::INFINITY, s, &mut parts);
+        let entry = parts
+            .iter()
+            .find(|p| p.region == hit.region && p.span.a.t <= hit.t && hit.t < p.span.b.t)
+            .map(|p| p.span.a);
+        match entry {
+            Some(a) if a.body != u32::MAX => {
+                if let Some(n) = a.nested_normal() {
+                    return n;
+                }
+                let at = if a.t.is_finite() {
+                    ray.at(a.t)
+                } else {
+                    ray.origin
+                };
+                let n = self.shapes[a.body as usize].normal(a.face(), at);
+                if a.flip() {
+                    -n
+                } else {
+                    n
+                }
+            }
+            _ => -ray.dir,
+        }
+    }
 }
 
 impl Prepared {

@@ -8,6 +8,7 @@ use crate::view::{renderer, size};
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use sv_scene::{Light, LightKind, RegionProps};
 
 /// Output formats of `export`.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,13 +49,32 @@ pub fn export(args: ExportArgs) -> Result<ExitCode, CliError> {
         || view.eye.is_some()
         || view.at.is_some()
         || view.fov.is_some()
-        || view.eye_light;
+        || view.up.is_some()
+        || view.view_size.is_some()
+        || view.eye_light
+        || view.rt;
     if args.format == ExportFormat::Pov || view_given {
         let renderer = renderer(&scene, view, width, height)?;
         scene.camera = Some(renderer.camera);
         scene.lights = renderer.lights.clone();
-        if view.eye_light {
-            scene.ambient = 0.0;
+        if view.eye_light || view.rt {
+            // rt -l1 as the paper's formula: a light along the view and
+            // ambient 0.4 give 0.4 + 0.6·cos θ for the default k = 0.8.
+            scene.lights = vec![Light {
+                name: "EYE".into(),
+                kind: LightKind::Parallel {
+                    dir: renderer.camera.dir,
+                },
+                intensity: 0.6 / RegionProps::DEFAULT_K,
+                colour: [1.0; 3],
+            }];
+            scene.ambient = 0.4;
+            if scene.regions.iter().any(|r| r.k != RegionProps::DEFAULT_K) {
+                eprintln!(
+                    "note: regions whose reflectance is not {} are shaded by their own k in the written scene, not as rt -l1 shades them",
+                    RegionProps::DEFAULT_K
+                );
+            }
         }
     }
     if view.no_shadows {

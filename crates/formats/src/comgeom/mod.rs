@@ -96,3 +96,22 @@ pub fn kind_for(name: &str, version: DeckVersion) -> Option<BodyKind> {
         _ => return None,
     })
 }
+
+/// A body's parameters from its card's values. The one difference is
+/// HAF's distance: the card's `N d` is the half-space `N·x ≤ −d`, as
+/// BRL-CAD's comgeom-g and vdeck read and write it, while a HAF body holds
+/// the plane's own distance (`N·x ≤ D`).
+pub(crate) fn card_to_body_params(kind: BodyKind, mut values: Vec<f64>) -> Vec<f64> {
+    if kind == BodyKind::Haf {
+        if let Some(d) = values.get_mut(3) {
+            *d = -*d;
+        }
+    }
+    values
+}
+
+/// A card's values from a body's parameters: the inverse of
+/// [`card_to_body_params`] (the same sign change, undone).
+pub(crate) fn body_to_card_params(kind: BodyKind, params: Vec<f64>) -> Vec<f64> {
+    card_to_body_params(kind, params)
+}

@@ -291,7 +291,7 @@ impl Deck {
             self.notes.push(format!("body {number}: ELL given by its foci is written as ELL1 (centre, semi-major axis, radius)"));
             centre_form.to_vec()
         } else {
-            b.params.clone()
+            super::body_to_card_params(b.kind, b.params.clone())
         };
         let what = format!("body {number} ({ty})");
         self.value_cards(

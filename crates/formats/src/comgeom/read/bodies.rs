@@ -129,7 +129,11 @@ impl<'a> Reader<'a> {
             }
             values
         };
-        Some(Body::new(number.to_string(), kind, params))
+        Some(Body::new(
+            number.to_string(),
+            kind,
+            crate::comgeom::card_to_body_params(kind, params),
+        ))
     }
 
     /// Read up to six values of a card into `vals` (until it holds `n`).

@@ -243,7 +243,9 @@ body_test!(
     [10, 0, 0, -12, 0, 0, 0, -3, 0, 0, 0, 5]
 );
 body_test!(vdeck_ell1, VDECK, 9, Ell1, [3, 2, 8, 3, -1, 8, 4]);
-body_test!(vdeck_haf, VDECK, 11, Haf, [0.5774, 0.5774, 0.5774, -5]);
+// The card says `.5774 .5774 .5774 -5`: comgeom-g's N·x ≤ −d, so the
+// half-space holds the points with N·x ≤ 5 (the body's own distance).
+body_test!(vdeck_haf, VDECK, 11, Haf, [0.5774, 0.5774, 0.5774, 5]);
 body_test!(vdeck_rcc, VDECK, 12, Rcc, [0, 0, 0, 3, 3, 30, 7]);
 body_test!(
     vdeck_tec,

@@ -200,7 +200,23 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
         outside: sorted.outside,
         // Regions beyond the model (black holes) are not the point.
         unseen: (0..model.names.len())
-            .filter(|&region| !seen[region] && !model.outside.get(region).copied().unwrap_or(false))
+            .filter(|&region| {
+                !seen[region]
+                    && !model.outside.get(region).copied().unwrap_or(false)
+                    && !model.region_bounds[region]
+                        .intersection(&checked_box)
+                        .is_empty()
+            })
+            .map(|region| model.names[region].clone())
+            .collect(),
+        beyond_box: (0..model.names.len())
+            .filter(|&region| {
+                !seen[region]
+                    && !model.outside.get(region).copied().unwrap_or(false)
+                    && model.region_bounds[region]
+                        .intersection(&checked_box)
+                        .is_empty()
+            })
             .map(|region| model.names[region].clone())
             .collect(),
         seconds: start.elapsed().as_secs_f64(),
@@ -214,7 +230,7 @@ fn checked_box(model: &Model, opts: &CheckOptions) -> Result<Aabb, CheckError> {
         Some(_) => Err(CheckError::Option(
             "the box must have finite corners, lower before upper".into(),
         )),
-        None => model.finite_bounds(),
+        None => model.check_bounds(),
     }
 }
 

@@ -84,6 +84,7 @@ pub struct Model {
     pub(crate) hull: Option<Hull>,
     pub(crate) region_bounds: Vec<Aabb>,
     box_: Aabb,
+    check_box: Aabb,
 }
 
 /// Words that mark a black-hole region in a region's description or in the
@@ -236,26 +237,43 @@ impl Model {
             .iter()
             .map(|r| region_bounds(&prepared, r))
             .collect();
-        // The rays cover every finite region that is not beyond the model
-        // (black holes set aside: a FLUKA world of 1e10 cm would leave a
-        // grid too coarse to meet a detector), and the universe's cavity
-        // too when it is near the model, so that holes between the model
-        // and its black hole are found; a far one is left out, as a grid
-        // over it could meet nothing smaller than its spacing.
+        // Slices and volumes cover every finite region of the model (black
+        // holes set aside). The rays of a check cover those that are not
+        // air: the vacuum and air shells a transport model wraps around
+        // its detector would leave a grid too coarse to meet it (regions
+        // wholly outside the box are listed as such in the report). Each
+        // box takes in the universe's cavity when that is near it, so that
+        // holes between the model and its black hole are found; a far one
+        // is left out, as a grid over it could meet nothing smaller than
+        // its spacing.
         let outside: Vec<bool> = scene.regions.iter().map(|r| r.outside).collect();
-        let mut box_ = region_bounds
-            .iter()
-            .enumerate()
-            .filter(|&(r, b)| !outside.get(r).copied().unwrap_or(false) && b.is_finite())
-            .fold(Aabb::EMPTY, |acc, (_, b)| acc.union(b));
-        if let Some(Hull::Prepared(hull)) = &hull {
-            let cavity = hull.bounds();
-            if cavity.is_finite()
-                && (box_.is_empty() || cavity.diagonal() <= NEAR_UNIVERSE * box_.diagonal())
+        let air = |r: usize| scene.regions.get(r).is_some_and(|p| p.air != 0);
+        let union_of = |keep: &dyn Fn(usize) -> bool| {
+            region_bounds
+                .iter()
+                .enumerate()
+                .filter(|&(r, b)| keep(r) && b.is_finite() && !b.is_empty())
+                .fold(Aabb::EMPTY, |acc, (_, b)| acc.union(b))
+        };
+        let in_model = |r: usize| !outside.get(r).copied().unwrap_or(false);
+        let with_near_cavity = |b: Aabb| match &hull {
+            Some(Hull::Prepared(hull))
+                if hull.bounds().is_finite()
+                    && (b.is_empty()
+                        || hull.bounds().diagonal() <= NEAR_UNIVERSE * b.diagonal()) =>
             {
-                box_ = box_.union(&cavity);
+                b.union(&hull.bounds())
             }
-        }
+            _ => b,
+        };
+        let model_box = union_of(&in_model);
+        let solids_box = union_of(&|r| in_model(r) && !air(r));
+        let box_ = with_near_cavity(model_box);
+        let check_box = if solids_box.is_empty() {
+            box_
+        } else {
+            with_near_cavity(solids_box)
+        };
         Ok((
             Model {
                 prepared,
@@ -282,6 +300,7 @@ impl Model {
                 hull,
                 region_bounds,
                 box_,
+                check_box,
             },
             warnings,
         ))
@@ -291,6 +310,17 @@ impl Model {
     /// zone and of the universe's hull. Empty when every zone is unbounded.
     pub fn bounds(&self) -> Aabb {
         self.box_
+    }
+
+    /// The box a check's rays cover by default: [`Model::bounds`] less the
+    /// air and vacuum regions around the solid ones, or
+    /// [`CheckError::Unbounded`] when it is empty.
+    pub fn check_bounds(&self) -> Result<Aabb, CheckError> {
+        if self.check_box.is_empty() || !self.check_box.is_finite() {
+            Err(CheckError::Unbounded)
+        } else {
+            Ok(self.check_box)
+        }
     }
 
     /// [`Model::bounds`], or [`CheckError::Unbounded`] when it is empty.

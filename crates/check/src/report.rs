@@ -94,6 +94,10 @@ pub struct Report {
     /// Regions no ray crossed: empty (subtracted away entirely) or thinner
     /// than the spacing. Listed for information; not counted as problems.
     pub unseen: Vec<String>,
+    /// Regions wholly outside the box checked (the air or vacuum shells
+    /// around a transport model are left out of the default box): not
+    /// checked, and not counted against the verdict.
+    pub beyond_box: Vec<String>,
     /// Wall-clock time of the ray casting, seconds.
     pub seconds: f64,
 }
@@ -138,6 +142,14 @@ impl Report {
                 "{} regions met by no ray (empty, or thinner than the spacing): {}",
                 self.unseen.len(),
                 self.unseen.join(", ")
+            );
+        }
+        if !self.beyond_box.is_empty() {
+            let _ = writeln!(
+                text,
+                "{} regions lie wholly outside the box and were not checked: {}",
+                self.beyond_box.len(),
+                self.beyond_box.join(", ")
             );
         }
         let verdict = match (self.is_clean(), self.met_every_region()) {

@@ -230,23 +230,30 @@ pub(crate) fn default_tolerance(body_bounds: &[Aabb]) -> f64 {
 }
 
 /// The box of `boxes` (bounded) and `extra` less the containers around
-/// them: a box that holds all the others' and is more than twice their
-/// size (a FLUKA black hole, the void sphere around a detector), set
-/// aside in turn from the largest. Returns that box and the innermost
+/// them: the boxes that each hold all the smaller ones' (a FLUKA black
+/// hole, the world sphere, the void around a detector), set aside from
+/// the largest down to the innermost that is more than twice the size of
+/// what it holds. Returns that box and the innermost
 /// container set aside, if any. Sorts `boxes`, largest first.
 pub(crate) fn without_containers(boxes: &mut [Aabb], extra: Aabb) -> (Aabb, Option<Aabb>) {
     boxes.sort_by(|a, b| b.diagonal().total_cmp(&a.diagonal()));
     let rest = |from: usize| boxes[from..].iter().fold(extra, |acc, b| acc.union(b));
-    let mut first = 0;
+    // Walk the chain of boxes that each hold all the smaller ones; cut it
+    // below the innermost that is more than twice what it holds (a black
+    // hole only twice the world sphere inside it is still a container).
+    let (mut first, mut cut) = (0, 0);
     while first + 1 < boxes.len() || (first < boxes.len() && !extra.is_empty()) {
         let inner = rest(first + 1);
         let outer = boxes[first];
-        if !(outer.union(&inner) == outer && outer.diagonal() > 2.0 * inner.diagonal()) {
+        if outer.union(&inner) != outer {
             break;
+        }
+        if outer.diagonal() > 2.0 * inner.diagonal() {
+            cut = first + 1;
         }
         first += 1;
     }
-    (rest(first), first.checked_sub(1).map(|i| boxes[i]))
+    (rest(cut), cut.checked_sub(1).map(|i| boxes[i]))
 }
 
 /// The finite sides of an unbounded box as a box: along each axis, its

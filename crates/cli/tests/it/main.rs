@@ -6,6 +6,7 @@ mod cli;
 mod deck_determinism;
 mod export;
 mod film;
+mod fluka_cases;
 mod fluka_render;
 mod rt;
 

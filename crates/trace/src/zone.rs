@@ -130,7 +130,11 @@ impl Prepared {
         hi: f64,
         s: &mut Scratch,
     ) -> Vec<Span> {
-        let outer = std::mem::take(&mut s.cur);
+        // The nested zones work in a spare list of the pool, handed back
+        // below: a fresh one would be allocated for every group a ray
+        // meets, and the pool would grow by one a call.
+        let nested_cur = s.spare();
+        let outer = std::mem::replace(&mut s.cur, nested_cur);
         let (mut union, mut merged) = (s.spare(), s.spare());
         let zones = &self.nested[g.first as usize..(g.first + g.count) as usize];
         for inner in zones {

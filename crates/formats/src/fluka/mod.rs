@@ -97,14 +97,13 @@ mod geometry;
 mod lattice;
 mod materials;
 mod preprocess;
-mod region;
 mod regions;
 mod rotdefi;
 mod scene;
 mod voxels;
 
+pub use crate::text::region::MAX_DEPTH;
 pub use preprocess::MAX_INCLUDE_DEPTH;
-pub use region::MAX_DEPTH;
 pub use voxels::{MAX_VOXELS, MAX_VOXEL_BOXES};
 
 use crate::diag::count;

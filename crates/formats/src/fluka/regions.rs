@@ -1,8 +1,8 @@
 //! The region list of a name-based (free-format) FLUKA geometry.
 
 use super::card;
-use super::region::{self, Lookup, Spanned, Tok};
 use super::{clean, is_integer, is_name, Reader};
+use crate::text::region::{self, Lookup, Spanned, Tok};
 use sv_geom::{Region, Zone};
 
 /// A region being read: where its name is, the name and its tokens.

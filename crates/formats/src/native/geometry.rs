@@ -2,7 +2,8 @@
 
 use super::Names;
 use crate::camera_light::colour;
-use crate::diag::{did_you_mean, Diagnostic};
+use crate::diag::{did_you_mean, Diagnostic, Span};
+use crate::text::region::{self, Lookup, Spanned, Tok};
 use crate::text::{Cursor, Token};
 use sv_geom::{Body, BodyKind, Op, Region, Term, Zone, BODY_TYPES};
 use sv_scene::{RegionProps, Scene};
@@ -112,6 +113,23 @@ fn zones(
     scene: &Scene,
     names: &Names,
 ) -> Result<Vec<Zone>, Diagnostic> {
+    let is_property = |t: &Token| REGION_PROPS.iter().any(|p| p.eq_ignore_ascii_case(t.text));
+    let expression: Vec<Token> = line
+        .rest()
+        .iter()
+        .take_while(|t| !is_property(t))
+        .copied()
+        .collect();
+    if let Some(first) = expression.first() {
+        let stop = line.rest().get(expression.len()).map(|t| t.span);
+        let text = line.text_between(first.span, stop);
+        if text.contains(['(', ')', '|']) {
+            for _ in &expression {
+                line.advance();
+            }
+            return nested_zones(line, name, (text, first.span), scene, names);
+        }
+    }
     let mut zones = vec![Zone::default()];
     let mut errors = Vec::new();
     while let Some(t) = line.peek() {
@@ -137,20 +155,7 @@ fn zones(
                 .expect("zones start with one")
                 .terms
                 .push(Term { op, body: b }),
-            None => {
-                let d = line.error(
-                    &t,
-                    format!(
-                        "region `{}` refers to body `{body}`, which is not defined",
-                        name.text
-                    ),
-                );
-                let body_names = scene.geometry.bodies.iter().map(|b| b.name.as_str());
-                errors.push(match did_you_mean(body, body_names) {
-                    Some(s) => d.with_hint(format!("did you mean `{s}`?")),
-                    None => d.with_hint("define bodies before the regions that use them"),
-                });
-            }
+            None => errors.push(undefined_body(line, name, body, t.span, scene)),
         }
     }
     if let Some(e) = errors.into_iter().next() {
@@ -163,6 +168,81 @@ fn zones(
             .with_hint("every OR must be followed by at least one body"));
     }
     Ok(zones)
+}
+
+/// A region's use of a body that is not defined (yet).
+fn undefined_body(
+    line: &Cursor,
+    region: &Token,
+    body: &str,
+    at: Span,
+    scene: &Scene,
+) -> Diagnostic {
+    let d = line.error_at(
+        at,
+        format!(
+            "region `{}` refers to body `{body}`, which is not defined",
+            region.text
+        ),
+    );
+    let body_names = scene.geometry.bodies.iter().map(|b| b.name.as_str());
+    match did_you_mean(body, body_names) {
+        Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+        None => d.with_hint("define bodies before the regions that use them"),
+    }
+}
+
+/// The zones of an expression that nests, such as `+a -(+b | +c)` (`OR`
+/// is `|`), read by the grammar of parenthesised regions that FLUKA's
+/// reader uses too: groups are kept as written, never expanded.
+fn nested_zones(
+    line: &Cursor,
+    name: &Token,
+    (text, at): (&str, Span),
+    scene: &Scene,
+    names: &Names,
+) -> Result<Vec<Zone>, Diagnostic> {
+    let mut toks = Vec::new();
+    region::tokenize(text, at.line, &mut toks);
+    for piece in &mut toks {
+        // Columns on the line, and OR as `|`.
+        piece.col += at.col - 1;
+        if matches!(&piece.tok, Tok::Name(w) if w.eq_ignore_ascii_case("OR")) {
+            piece.tok = Tok::Bar;
+        }
+    }
+    let span_of = |s: &Spanned| Span {
+        line: s.line,
+        col: s.col,
+        len: s.len,
+    };
+    let mut missing = None;
+    let parsed = region::Parser::new(&toks, |s| match &s.tok {
+        Tok::Name(body) => match names.bodies.get(body.as_str()) {
+            Some(&b) => Lookup::Body(b),
+            None => {
+                missing.get_or_insert_with(|| (body.clone(), span_of(s)));
+                Lookup::Unknown
+            }
+        },
+        _ => Lookup::Unknown,
+    })
+    .parse();
+    if let Some((body, at)) = missing {
+        return Err(undefined_body(line, name, &body, at, scene));
+    }
+    match parsed {
+        Ok((zones, _)) if zones.iter().all(|z| !z.is_empty()) && !zones.is_empty() => Ok(zones),
+        Ok(_) => Err(line
+            .error(name, format!("region `{}` has an empty zone", name.text))
+            .with_hint("every `|` or OR must be followed by at least one body")),
+        Err(e) => {
+            let at = toks.get(e.at).map_or(line.end(), span_of);
+            Err(line
+                .error_at(at, format!("region `{}`: {}", name.text, e.message))
+                .with_hint("write `+a -(+b | +c)`: `|` (or OR) unites, parentheses group, `+` and `-` intersect and subtract"))
+        }
+    }
 }
 
 /// A word among the zones that is neither a term nor OR.

@@ -35,6 +35,21 @@ impl<'a> Cursor<'a> {
         &self.tokens
     }
 
+    /// The line's text from the start of `from` to the start of `until`
+    /// (to the end of the line's code when `None`): what the tokens
+    /// between them were read from, separators and all.
+    pub fn text_between(&self, from: Span, until: Option<Span>) -> &'a str {
+        let until = until.unwrap_or(self.end);
+        let start = self.src.offset(from.line, from.col);
+        let stop = self.src.offset(until.line, until.col).max(start);
+        &self.src.text[start..stop]
+    }
+
+    /// The tokens not yet taken.
+    pub fn rest(&self) -> &[Token<'a>] {
+        &self.tokens[self.pos..]
+    }
+
     /// True when the line holds no token.
     pub fn is_blank(&self) -> bool {
         self.tokens.is_empty()

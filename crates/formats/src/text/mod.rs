@@ -10,6 +10,7 @@
 //! diagnostics show them.
 
 mod cursor;
+pub(crate) mod region;
 
 pub(crate) use cursor::Cursor;
 

@@ -229,3 +229,42 @@ fn units_come_from_the_scene_or_its_first_model() {
         "part.sv has no units: it takes the scene's (mm)"
     );
 }
+
+#[test]
+fn regions_nest_with_parentheses_and_bars_and_read_back_as_written() {
+    let text = "BODY a SPH (0,0,0) 2\nBODY b SPH (1,0,0) 1\nBODY c SPH (-1,0,0) 1\n\
+                BODY d RPP -3 3 -3 3 -0.1 0.1\n\
+                REGION R = +a -(+b | +c -d) OR +d -a COLOR (1,0,0)\n";
+    let src = SourceFile::new("scene.sv", text);
+    let scene = load_source(&src, Format::Native, &LoadOptions::default())
+        .unwrap()
+        .scene;
+    let region = &scene.geometry.regions[0];
+    let names: Vec<&str> = scene.geometry.bodies.iter().map(|b| b.name.as_str()).collect();
+    assert_eq!(
+        region.expression(&|b| names[b]),
+        "+a -(+b | +c -d) | +d -a"
+    );
+    assert_eq!(scene.regions[0].colour, Some([1.0, 0.0, 0.0]));
+    // Written with its groups, it reads back the same.
+    let written = native::write(&scene);
+    let again = load_source(
+        &SourceFile::new("again.sv", written.clone()),
+        Format::Native,
+        &LoadOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}\n{written}"))
+    .scene;
+    assert_eq!(again.geometry.regions, scene.geometry.regions, "{written}");
+}
+
+#[test]
+fn nested_region_errors_point_into_the_parentheses() {
+    assert_eq!(
+        errors("BODY a SPH (0,0,0) 2\nBODY b SPH (1,0,0) 1\nREGION R = +a -(+b | +x)\n"),
+        "error: region `R` refers to body `x`, which is not defined\n --> scene.sv:3:23\n  |\n3 | REGION R = +a -(+b | +x)\n  |                       ^\n  = hint: did you mean `a`?\n"
+    );
+    let unclosed = errors("BODY a SPH (0,0,0) 2\nBODY b SPH (1,0,0) 1\nREGION R = +a -(+b\n");
+    assert!(unclosed.contains("scene.sv:3:"), "{unclosed}");
+    assert!(unclosed.contains("region `R`"), "{unclosed}");
+}

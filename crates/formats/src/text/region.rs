@@ -1,4 +1,5 @@
-//! Region expressions, parsed into zones and groups as written.
+//! Region expressions with parentheses, parsed into zones and groups as
+//! written: FLUKA's, and the scene language's when they nest.
 //!
 //! Grammar (juxtaposition intersects, `|` unites, parentheses nest):
 //!
@@ -15,7 +16,6 @@
 //! are opened: `+( one zone )` joins its zone, and `-( one body )` is the
 //! body's own term.
 
-use crate::text;
 use sv_geom::{Group, Op, Term, Zone};
 
 /// Deepest parenthesis nesting accepted.
@@ -44,13 +44,13 @@ pub(crate) struct Spanned {
 
 /// Split one line of a region expression into tokens.
 pub(crate) fn tokenize(line_text: &str, line: usize, out: &mut Vec<Spanned>) {
-    for t in text::tokens(line_text, line, &text::FLUKA_REGION) {
+    for t in super::tokens(line_text, line, &super::FLUKA_REGION) {
         let tok = match t.kind {
-            text::Kind::Punct('+') => Tok::Plus,
-            text::Kind::Punct('-') => Tok::Minus,
-            text::Kind::Punct('|') => Tok::Bar,
-            text::Kind::Punct('(') => Tok::Open,
-            text::Kind::Punct(')') => Tok::Close,
+            super::Kind::Punct('+') => Tok::Plus,
+            super::Kind::Punct('-') => Tok::Minus,
+            super::Kind::Punct('|') => Tok::Bar,
+            super::Kind::Punct('(') => Tok::Open,
+            super::Kind::Punct(')') => Tok::Close,
             _ => Tok::Name(t.text.to_string()),
         };
         out.push(Spanned {

@@ -20,7 +20,9 @@ use std::process::ExitCode;
 
 /// Parse the command line and run the command.
 pub fn run() -> Result<ExitCode, CliError> {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    crate::term::set_quiet(cli.quiet);
+    match cli.command {
         Command::Render(args) => render::render(args),
         Command::Info(args) => info::info(args),
         Command::Shoot(args) => shoot::shoot(args),
@@ -33,12 +35,6 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Volume(args) => volume::volume(args),
         Command::Export(args) => export::export(args),
     }
-}
-
-/// Print a report on stdout; a closed pipe (`| head`) is not an error.
-fn emit(text: &str) {
-    use std::io::Write;
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
 /// A check that could not run, with a hint where one helps.

@@ -1,0 +1,83 @@
+//! Writing for people: reports on stdout, notes and errors on stderr.
+//!
+//! A closed pipe ends the program quietly, as Unix tools do
+//! (`synthavision bodies | head -3`): `outln!` would panic instead. A
+//! closed stderr is ignored (the work still gets done and written), and
+//! `--quiet` silences the notes.
+
+use std::fmt::Arguments;
+use std::io::{ErrorKind, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether `--quiet` was given.
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Silence the notes (`--quiet`).
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// Whether notes and progress bars are silenced.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
+/// Write to stdout; when the reader has gone (a closed pipe), end the
+/// program quietly with exit code 0.
+pub fn out(args: Arguments) {
+    let mut stdout = std::io::stdout().lock();
+    if let Err(error) = stdout.write_fmt(args) {
+        if error.kind() == ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+    }
+}
+
+/// Write bytes to stdout (a picture for `-o -`), with the same rule for a
+/// closed pipe.
+pub fn out_bytes(bytes: &[u8]) {
+    let mut stdout = std::io::stdout().lock();
+    if let Err(error) = stdout.write_all(bytes).and_then(|()| stdout.flush()) {
+        if error.kind() == ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+    }
+}
+
+/// Write to stderr; a closed stderr is not worth stopping for.
+pub fn err(args: Arguments) {
+    let _ = std::io::stderr().lock().write_fmt(args);
+}
+
+/// A note on stderr, unless `--quiet`.
+pub fn note(args: Arguments) {
+    if !quiet() {
+        err(args);
+    }
+}
+
+/// `out!` that ends quietly on a closed pipe.
+macro_rules! out {
+    ($($arg:tt)*) => { $crate::term::out(format_args!($($arg)*)) };
+}
+
+/// `outln!` that ends quietly on a closed pipe.
+macro_rules! outln {
+    () => { $crate::term::out(format_args!("\n")) };
+    ($($arg:tt)*) => { $crate::term::out(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
+/// `err!` that ignores a closed stderr.
+macro_rules! err {
+    ($($arg:tt)*) => { $crate::term::err(format_args!($($arg)*)) };
+}
+
+/// `errln!` that ignores a closed stderr.
+macro_rules! errln {
+    ($($arg:tt)*) => { $crate::term::err(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
+/// A line on stderr that `--quiet` silences: `note: ...`.
+macro_rules! noteln {
+    ($($arg:tt)*) => { $crate::term::note(format_args!("{}\n", format_args!($($arg)*))) };
+}

@@ -1,0 +1,254 @@
+//! A tool people can trust (issue 26): closed pipes, sizes beyond memory,
+//! values out of range, empty models and conflicting options are refused
+//! up front or end quietly, never with a panic or a silently wrong picture.
+
+use crate::{examples, fresh_dir, sv, write};
+use std::process::{Command, Output};
+
+/// Run the binary with `args` writing into a pipe whose reader has gone:
+/// the shell starts it after `true` has exited. `both` sends stderr into
+/// the pipe too. Returns the exit code and what reached the terminal.
+fn into_closed_pipe(args: &str, both: bool) -> (i32, String) {
+    let redirect = if both { "2>&1" } else { "" };
+    let script = format!(
+        "(sleep 0.3; \"$0\" {args} {redirect}; echo \"exit $?\" >&3) 3>&2 | true",
+        args = args
+    );
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(script)
+        .arg(env!("CARGO_BIN_EXE_synthavision"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    let code = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("exit "))
+        .and_then(|c| c.trim().parse().ok())
+        .unwrap_or(-1);
+    (code, stderr)
+}
+
+#[test]
+fn closed_pipes_end_quietly() {
+    let figure1 = examples().join("figure1/figure1.sv");
+    let figure1 = figure1.to_str().unwrap();
+    let dir = fresh_dir("trust-pipes");
+    let bad = write(&dir, "bad.svs", "FPS 12\nFOO\n");
+    for (args, both, expected) in [
+        ("bodies".to_string(), false, 0),
+        (format!("info {figure1}"), false, 0),
+        (
+            format!("shoot {figure1} --from 0,-5,0 --dir 0,1,0"),
+            false,
+            0,
+        ),
+        (format!("film {}", bad.display()), true, 2),
+    ] {
+        let (code, stderr) = into_closed_pipe(&args, both);
+        assert_eq!(code, expected, "{args}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args}: {stderr}");
+    }
+}
+
+/// A run that must be refused with exit 2 before writing `out`.
+fn refused(o: &Output, out: &std::path::Path, says: &str) {
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(says), "expected `{says}` in: {stderr}");
+    assert!(!out.exists(), "{} was written", out.display());
+}
+
+#[test]
+fn sizes_beyond_memory_are_refused_before_allocating() {
+    let dir = fresh_dir("trust-size");
+    let out = dir.join("x.png");
+    let o = sv(&[
+        "render",
+        "--size",
+        "65536x65536",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    refused(&o, &out, "of memory");
+    let script = write(&dir, "f.svs", "SCENE \"SCENE\"\nFPS 12\nSHOOT\n");
+    let scene = examples().join("figure1/figure1.sv");
+    std::fs::write(
+        &script,
+        std::fs::read_to_string(&script)
+            .unwrap()
+            .replace("SCENE\"", &format!("{}\"", scene.display())),
+    )
+    .unwrap();
+    let film = dir.join("film");
+    let o = sv(&[
+        "film",
+        script.to_str().unwrap(),
+        "--size",
+        "65536x65536",
+        "-o",
+        film.to_str().unwrap(),
+    ]);
+    refused(&o, &film, "of memory");
+}
+
+#[test]
+fn numbers_that_are_not_finite_are_refused() {
+    let dir = fresh_dir("trust-finite");
+    let out = dir.join("x.png");
+    let out_text = out.to_str().unwrap();
+    for args in [
+        &["--az", "nan"][..],
+        &["--el", "inf"],
+        &["--background", "nan"],
+        &["--background", "2,0,0"],
+        &["--fov", "-inf"],
+        &["--levels", "0"],
+        &["--levels", "1"],
+        &["--samples", "0"],
+        &["--threads", "0"],
+    ] {
+        let mut all = vec!["render", "--size", "8x6", "-o", out_text];
+        all.extend_from_slice(args);
+        refused(&sv(&all), &out, args[0]);
+    }
+}
+
+#[test]
+fn scene_values_out_of_range_are_refused_where_they_stand() {
+    let dir = fresh_dir("trust-scene-values");
+    let out = dir.join("x.png");
+    let body = "BODY a SPH (0,0,0) 1\nREGION r = +a\n";
+    for (line, column, statement) in [
+        (3, 44, "CAMERA ORTHO EYE (5,5,5) AT (0,0,0) HEIGHT 0"),
+        (3, 9, "AMBIENT -1"),
+        (3, 43, "LIGHT sun PARALLEL DIR (0,0,-1) INTENSITY -5"),
+        (3, 35, "LIGHT lamp POINT AT (0,0,5) DECAY -3"),
+        (3, 43, "LIGHT sun PARALLEL DIR (0,0,-1) COLOR 0.5 -1 0.5"),
+        (3, 16, "REGION r COLOR 2 0 0.5"),
+    ] {
+        let scene = write(&dir, "s.sv", &format!("{body}{statement}\n"));
+        let o = sv(&[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        refused(&o, &out, &format!("s.sv:{line}:{column}"));
+    }
+}
+
+#[test]
+fn an_empty_model_is_an_error_and_the_old_picture_stays() {
+    let dir = fresh_dir("trust-empty");
+    let out = write(&dir, "x.png", "an earlier picture");
+    for text in ["", "# nothing\n", "BODY a SPH (0,0,0) 1\n"] {
+        let scene = write(&dir, "e.sv", text);
+        let o = sv(&[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains("e.sv:1:1"), "{stderr}");
+        assert!(stderr.contains("no region"), "{stderr}");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "an earlier picture");
+    }
+}
+
+#[test]
+fn a_stray_carriage_return_does_not_shift_the_snippet() {
+    let dir = fresh_dir("trust-cr");
+    let scene = write(&dir, "cr.sv", "TITLE a\rb\nFOO 1\n");
+    let o = sv(&["info", scene.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("cr.sv:2:1"), "{stderr}");
+    assert!(stderr.contains(" 2 │ FOO 1"), "{stderr}");
+    assert!(!stderr.contains(" 3 │"), "{stderr}");
+}
+
+#[test]
+fn a_ray_budget_too_small_to_estimate_is_refused() {
+    let figure1 = examples().join("figure1/figure1.sv");
+    let o = sv(&["volume", figure1.to_str().unwrap(), "--max-rays", "1"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--max-rays 1 is too few"), "{stderr}");
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn conflicting_options_are_refused_before_rendering() {
+    let dir = fresh_dir("trust-conflicts");
+    for (name, option, says) in [
+        ("x.ppm", "--alpha", "--alpha needs a PNG"),
+        ("x.pfm", "--srgb", "--srgb does not apply"),
+        ("x.pfm", "--sixteen-bit", "--sixteen-bit does not apply"),
+    ] {
+        let out = dir.join(name);
+        let started = std::time::Instant::now();
+        // A size that would take long to render: refused before it is.
+        let o = sv(&[
+            "render",
+            "--size",
+            "8000x6000",
+            option,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        refused(&o, &out, says);
+        assert!(started.elapsed().as_secs() < 20, "rendered first");
+    }
+}
+
+#[test]
+fn bench_measures_scenes_built_into_the_binary() {
+    let o = sv(&["bench", "--size", "16x12", "--repeat", "1", "--warmup", "0"]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("figure1.sv (bundled)"), "{stdout}");
+    assert!(stdout.contains("helicopter.sv (bundled)"), "{stdout}");
+}
+
+#[test]
+fn render_reads_stdin_writes_stdout_and_says_what_it_wrote() {
+    let dir = fresh_dir("trust-stdio");
+    let scene = std::fs::read(examples().join("figure1/figure1.sv")).unwrap();
+    let mut child = crate::bin()
+        .args(["render", "-", "--size", "32x24", "-o", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .current_dir(&dir)
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), &scene).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let picture = image::load_from_memory(&o.stdout).unwrap();
+    assert_eq!((picture.width(), picture.height()), (32, 24));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    let out = dir.join("f.png");
+    let o = sv(&["render", "--size", "8x6", "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains(&format!("wrote {} (8x6)", out.display())),
+        "{stderr}"
+    );
+    let o = sv(&[
+        "render",
+        "--quiet",
+        "--size",
+        "8x6",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

@@ -37,11 +37,9 @@ pub fn renderer(
         &cut_scene
     };
     let spec = view_spec(view)?;
-    let (mut renderer, warnings) =
+    // Warnings about bodies were reported, located, by the reader.
+    let (mut renderer, _) =
         Renderer::new(scene, aspect).map_err(|e| CliError::Input(format!("error: {e}")))?;
-    for warning in warnings {
-        errln!("warning: {warning}");
-    }
     let reframe = view.ortho || view.az.is_some() || view.el.is_some() || view.up.is_some();
     if reframe || view.eye.is_some() || view.at.is_some() {
         let mut camera = if reframe || scene.camera.is_none() {

@@ -68,10 +68,8 @@ pub fn model(scene: &Scene, universe: &UniverseArgs) -> Result<Model, CliError> 
             )));
         }
     }
-    let (model, warnings) = Model::new(scene, &choice).map_err(check_error)?;
-    for warning in warnings {
-        errln!("warning: {warning}");
-    }
+    // Warnings about bodies were reported, located, by the reader.
+    let (model, _) = Model::new(scene, &choice).map_err(check_error)?;
     Ok(model)
 }
 

@@ -43,11 +43,9 @@ pub fn info(args: InfoArgs) -> Result<ExitCode, CliError> {
         zones,
         transparent
     );
-    let (prepared, warnings) = sv_trace::Prepared::new(geometry, &Default::default())
+    // Warnings about bodies were reported, located, by the reader.
+    let (prepared, _) = sv_trace::Prepared::new(geometry, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
-    for warning in warnings {
-        outln!("warning: {warning}");
-    }
     let bounds = prepared.bounds();
     if bounds.is_empty() {
         outln!("bounds: empty");

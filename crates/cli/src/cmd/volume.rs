@@ -55,10 +55,8 @@ pub fn volume(args: VolumeArgs) -> Result<ExitCode, CliError> {
         )));
     }
     let scene = load(Some(&args.scene), &args.input)?.scene;
-    let (model, warnings) = Model::new(&scene, &UniverseChoice::None).map_err(volume_error)?;
-    for warning in warnings {
-        errln!("warning: {warning}");
-    }
+    // Warnings about bodies were reported, located, by the reader.
+    let (model, _) = Model::new(&scene, &UniverseChoice::None).map_err(volume_error)?;
     let report = thread_pool(args.threads)?
         .install(|| sv_check::volumes(&model, &opts))
         .map_err(volume_error)?;

@@ -252,3 +252,168 @@ fn render_reads_stdin_writes_stdout_and_says_what_it_wrote() {
         String::from_utf8_lossy(&o.stderr)
     );
 }
+
+#[test]
+fn a_film_re_run_at_another_size_leaves_no_old_film() {
+    let dir = fresh_dir("trust-film-stale");
+    let scene = examples().join("figure1/figure1.sv");
+    let script = write(
+        &dir,
+        "f.svs",
+        &format!(
+            "SCENE \"{}\"\nFPS 12\nSIZE 32 24\nSHOOT 3\n",
+            scene.display()
+        ),
+    );
+    let film = dir.join("film");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["film", script.to_str().unwrap(), "--no-mp4", "-o"];
+        args.push(film.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = sv(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run(&[]);
+    assert!(film.join("film.gif").exists() && film.join("contact.png").exists());
+    // Part of the film at another size: the old GIF and sheet are gone.
+    run(&["--size", "16x12", "--frames", "0..2"]);
+    assert!(!film.join("film.gif").exists());
+    assert!(!film.join("contact.png").exists());
+    // The rest of it: made again, from the new frames.
+    run(&["--size", "16x12"]);
+    let gif = image::open(film.join("film.gif")).unwrap();
+    assert_eq!((gif.width(), gif.height()), (16, 12));
+}
+
+#[test]
+fn geometry_rules_are_reported_at_the_body_card_in_every_reader() {
+    let dir = fresh_dir("trust-body-rules");
+    let cases = [
+        (
+            "s.sv",
+            "BODY 1 SPH (0,0,0) -1\nREGION r = +1\n".to_string(),
+            "s.sv:1:8",
+            "radius must be positive",
+        ),
+        (
+            "s.sv",
+            "BODY 1 SPH (1e300,0,0) 1\nREGION r = +1\n".to_string(),
+            "s.sv:1:8",
+            "bounds would overflow",
+        ),
+        (
+            "d.cg",
+            [
+                "cm bad sphere",
+                "    2    1",
+                "    1SPH          0.        0.        0.       -1.",
+                "    2SPH          0.        0.        0.        2.",
+                "    1       2     -1",
+                "   -1",
+                "    1    0    0    1  100",
+            ]
+            .join("\n"),
+            "d.cg:3:6",
+            "radius must be positive",
+        ),
+        (
+            "f.inp",
+            [
+                "TITLE",
+                "bad plane",
+                "GEOBEGIN                                                              COMBNAME",
+                "    0    0          bad plane",
+                "SPH blk 0 0 0 100",
+                "PLA p 0 0 0 1 1 1",
+                "END",
+                "BLKBODY 5 +blk -p",
+                "R1 5 +blk +p",
+                "END",
+                "GEOEND",
+                "STOP",
+            ]
+            .join("\n"),
+            "f.inp:6:1",
+            "normal",
+        ),
+    ];
+    for (name, text, place, says) in cases {
+        let input = write(&dir, name, &text);
+        let o = sv(&["info", input.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.contains(place) && stderr.contains(says),
+            "{name}: {stderr}"
+        );
+        assert_eq!(stderr.matches("error").count(), 1, "one error: {stderr}");
+    }
+}
+
+#[test]
+fn convert_writes_fluka_half_spaces_as_haf_and_they_cut_alike() {
+    let dir = fresh_dir("trust-haf");
+    let input = write(
+        &dir,
+        "h.inp",
+        &[
+            "TITLE",
+            "half-spaces",
+            "GEOBEGIN                                                              COMBNAME",
+            "    0    0          half-spaces",
+            "SPH blk 0 0 0 1000",
+            "RPP box -5 5 -5 5 -5 5",
+            "XYP top 2",
+            "XZP side 1",
+            "YZP back -1",
+            "PLA slant 1 1 1 0 0 0",
+            "END",
+            "BLKBODY 5 +blk -box",
+            "R1 5 +box +top +side -back +slant",
+            "END",
+            "GEOEND",
+            "ASSIGNMA    BLCKHOLE   BLKBODY",
+            "ASSIGNMA      IRON        R1",
+            "STOP",
+        ]
+        .join("\n"),
+    );
+    let deck = dir.join("h.cg");
+    let o = sv(&[
+        "convert",
+        input.to_str().unwrap(),
+        "-o",
+        deck.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&deck).unwrap();
+    assert_eq!(text.matches("HAF").count(), 4, "{text}");
+    // The same crossings along rays through each cut.
+    let crossings = |file: &std::path::Path, from: &str, dir: &str| {
+        let o = sv(&[
+            "shoot",
+            file.to_str().unwrap(),
+            "--from",
+            from,
+            "--dir",
+            dir,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+        let columns: Vec<String> = stdout
+            .lines()
+            .skip(2)
+            .map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(" "))
+            .collect();
+        columns
+    };
+    for (from, dir) in [
+        ("-10,-0.5,-0.5", "1,0,0"),
+        ("0.5,-0.5,-10", "0,0,1"),
+        ("0.5,-10,-0.5", "0,1,0"),
+    ] {
+        let fluka = crossings(&input, from, dir);
+        assert!(fluka.len() >= 3, "{fluka:?}");
+        assert_eq!(fluka, crossings(&deck, from, dir), "{from} {dir}");
+    }
+}

@@ -172,7 +172,7 @@ impl Session<'_> {
                 Ok(())
             }
             "UNITS" => units(line, file),
-            "BODY" => geometry::body(line, scene, &file.names),
+            "BODY" => geometry::body(line, scene, &file.names, &mut self.warnings),
             "REGION" => geometry::region(line, scene, &file.names),
             "INCLUDE" => {
                 let name = line.any("a file name in quotes")?;

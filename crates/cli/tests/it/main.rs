@@ -7,6 +7,7 @@ mod deck_determinism;
 mod export;
 mod film;
 mod fluka_render;
+mod options;
 mod trust;
 
 use std::path::{Path, PathBuf};

@@ -41,6 +41,12 @@ pub enum Command {
     Volume(cmd::volume::VolumeArgs),
     /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
     Export(cmd::export::ExportArgs),
+    /// Every region: number, name, material, air code, bodies, bounds.
+    Regions(cmd::regions::RegionsArgs),
+    /// Shell completions (bash, zsh, fish, elvish, powershell) on stdout.
+    Completions(cmd::shell::CompletionsArgs),
+    /// The manual page (roff) on stdout, or one per command into a folder.
+    Man(cmd::shell::ManArgs),
 }
 
 #[derive(Args, Debug, Clone)]

@@ -19,6 +19,10 @@ pub const BUNDLED: [(&str, &str); 2] = [
     ("helicopter.sv (bundled)", HELICOPTER),
 ];
 
+/// Up to this many warnings are drawn with their lines; more are listed
+/// one line each.
+const FULL_WARNINGS: usize = 3;
+
 /// A loaded scene and the format it was read in.
 pub struct Input {
     /// The scene, with the input options applied.
@@ -81,7 +85,15 @@ fn finish(
         warnings,
         format,
     } = loaded.map_err(|e| load_failure(e, "nothing was written"))?;
-    if !warnings.is_empty() {
+    if warnings.len() > FULL_WARNINGS {
+        // Many warnings (a deck's non-planar faces): one line each, so the
+        // picture's own messages are not lost among them.
+        for warning in &warnings {
+            let (line, column) = warning.line_col();
+            let file = &warning.source.name;
+            errln!("warning: {file}:{line}:{column}: {}", warning.message);
+        }
+    } else if !warnings.is_empty() {
         let warnings = sv_formats::Diagnostics { items: warnings };
         err!(
             "{}",

@@ -8,7 +8,9 @@ pub mod convert;
 pub mod export;
 pub mod film;
 pub mod info;
+pub mod regions;
 pub mod render;
+pub mod shell;
 pub mod shoot;
 pub mod slice;
 pub mod volume;
@@ -34,6 +36,9 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Slice(args) => slice::slice(args),
         Command::Volume(args) => volume::volume(args),
         Command::Export(args) => export::export(args),
+        Command::Regions(args) => regions::regions(args),
+        Command::Completions(args) => shell::completions(args),
+        Command::Man(args) => shell::man(args),
     }
 }
 

@@ -417,3 +417,53 @@ fn convert_writes_fluka_half_spaces_as_haf_and_they_cut_alike() {
         assert_eq!(fluka, crossings(&deck, from, dir), "{from} {dir}");
     }
 }
+
+#[test]
+fn regions_lists_and_filters_every_region() {
+    let dir = fresh_dir("trust-regions");
+    let scene = write(
+        &dir,
+        "r.sv",
+        "BODY a SPH (0,0,0) 1\nBODY b RPP -3 3 -3 3 -3 3\nBODY c SPH (5,0,0) 0.5\n\
+         REGION core = +a\nREGION shell = +b -a\nREGION moon = +c\n",
+    );
+    let o = sv(&["regions", scene.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(stdout.lines().count(), 4, "{stdout}");
+    assert!(stdout.contains("(-3, -3, -3) to (3, 3, 3)"), "{stdout}");
+    let o = sv(&[
+        "regions",
+        scene.to_str().unwrap(),
+        "--json",
+        "--matching",
+        "SHE",
+    ]);
+    let listed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(listed.as_array().unwrap().len(), 1);
+    assert_eq!(listed[0]["name"], "shell");
+    assert_eq!(listed[0]["bodies"], 2);
+    let high_x = listed[0]["bounds"][1][0].as_f64().unwrap();
+    assert!((high_x - 3.0).abs() < 1e-3, "{high_x}");
+    let o = sv(&["regions", scene.to_str().unwrap(), "--material", "7"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn completions_and_manual_pages_come_from_the_commands() {
+    let o = sv(&["completions", "bash"]);
+    let script = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(
+        script.contains("--view-size") && script.contains("regions"),
+        "{script}"
+    );
+    let o = sv(&["man"]);
+    let page = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(page.contains(".TH synthavision 1"), "{page}");
+    let dir = fresh_dir("trust-man");
+    let o = sv(&["man", "--dir", dir.to_str().unwrap()]);
+    assert!(o.status.success());
+    assert!(dir.join("synthavision-render.1").exists());
+}

@@ -50,7 +50,7 @@ mod volume;
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use check::{check, CheckOptions};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
-pub use legend::with_legend;
+pub use legend::{with_legend, with_legend_entries, Swatch};
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};
 pub use report::{Outside, Overlap, Problem, Report, UniverseInfo, Void};

@@ -8,13 +8,25 @@ use clap::{Args, Parser, Subcommand};
 /// 1971 system. Reads scenes (.sv), COMGEOM/GIFT decks (.cg) and FLUKA
 /// inputs (.inp).
 #[derive(Parser, Debug)]
-#[command(name = "synthavision", version, about, long_about = None)]
+#[command(name = "synthavision", version, about, long_about = None, after_help = EXIT_CODES)]
 pub struct Cli {
     /// Print no notes (warnings and errors are still printed).
     #[arg(short, long, global = true)]
     pub quiet: bool,
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// The exit codes, shown under every command's help.
+pub const EXIT_CODES: &str =
+    "Exit codes: 0 done; 1 problems found (check); 2 bad input or options \
+(nothing is written); 3 output could not be written or another failure.";
+
+/// The command line's definition, every command's help ending with the
+/// exit codes (for parsing, completions and manual pages alike).
+pub fn definition() -> clap::Command {
+    <Cli as clap::CommandFactory>::command()
+        .mut_subcommands(|command| command.after_help(EXIT_CODES))
 }
 
 #[derive(Subcommand, Debug)]

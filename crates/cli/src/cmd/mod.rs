@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod bodies;
 pub mod check;
+mod colour_by;
 pub mod convert;
 pub mod export;
 pub mod film;
@@ -17,12 +18,13 @@ pub mod volume;
 
 use crate::args::{Cli, Command};
 use crate::error::CliError;
-use clap::Parser;
+use clap::FromArgMatches;
 use std::process::ExitCode;
 
 /// Parse the command line and run the command.
 pub fn run() -> Result<ExitCode, CliError> {
-    let cli = Cli::parse();
+    let matches = crate::args::definition().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|error| error.exit());
     crate::term::set_quiet(cli.quiet);
     match cli.command {
         Command::Render(args) => render::render(args),

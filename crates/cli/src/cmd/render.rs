@@ -1,6 +1,7 @@
 //! `synthavision render`: one picture, with its auxiliary images.
 
 use crate::args::{InputArgs, ViewArgs};
+use crate::cmd::colour_by::{self, ColourBy};
 use crate::cmd::{beside, check_error};
 use crate::error::{bad_input, runtime, CliError};
 use crate::load::{load, Input};
@@ -57,6 +58,14 @@ pub struct RenderArgs {
     /// Paint pixels whose ray passes through an overlap in magenta and list the pairs.
     #[arg(long)]
     pub overlaps: bool,
+    /// Colour every region by its region or its material, with the stable
+    /// colours of `slice` (default: the scene's own colours).
+    #[arg(long, value_enum, value_name = "region|material")]
+    pub color_by: Option<ColourBy>,
+    /// Add a legend strip of the colours seen under the picture (with
+    /// --color-by).
+    #[arg(long, requires = "color_by")]
+    pub legend: bool,
 }
 
 /// The auxiliary images asked for with `--aov`.
@@ -118,6 +127,9 @@ pub fn render(args: RenderArgs) -> Result<ExitCode, CliError> {
     let bytes_per_pixel = if aovs.any() { 44 } else { 24 };
     check_memory(width, height, bytes_per_pixel, "a picture")?;
     let plate = background(args.background.as_deref(), &mut input.scene, width, height)?;
+    if let Some(by) = args.color_by {
+        colour_by::paint(&mut input.scene, by);
+    }
     let renderer = renderer(&input.scene, &args.view, width, height)?;
     let pool = thread_pool(args.view.threads)?;
     let settings = Settings {
@@ -125,7 +137,8 @@ pub fn render(args: RenderArgs) -> Result<ExitCode, CliError> {
         height,
         shadows: input.scene.shadows && !args.view.no_shadows,
         samples: args.samples,
-        aovs: aovs.any(),
+        // The legend lists the regions the picture shows.
+        aovs: aovs.any() || args.legend,
     };
     let mut frame = Frame::new(width, height, settings.aovs);
     render_frame(&renderer, &settings, &pool, true, &mut frame);
@@ -135,9 +148,13 @@ pub fn render(args: RenderArgs) -> Result<ExitCode, CliError> {
     if args.overlaps {
         show_overlaps(&input, &renderer, &mut frame, &pool)?;
     }
-    write_pictures(&args, &out, format, &frame, aovs)?;
+    let legend = match args.color_by {
+        Some(by) if args.legend => Some(colour_by::legend(&input.scene, by, &frame.region)),
+        _ => None,
+    };
+    let written_height = write_pictures(&args, &out, format, &frame, aovs, legend)?;
     if !is_stdio(&out) {
-        noteln!("wrote {} ({width}x{height})", out.display());
+        noteln!("wrote {} ({width}x{written_height})", out.display());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -255,14 +272,16 @@ fn show_overlaps(
     Ok(())
 }
 
-/// Write the picture and the auxiliary images beside it.
+/// Write the picture and the auxiliary images beside it; returns the
+/// picture's height (with its legend strip).
 fn write_pictures(
     args: &RenderArgs,
     out: &Path,
     format: ImageFormat,
     frame: &Frame,
     aovs: Aovs,
-) -> Result<(), CliError> {
+    legend: Option<Vec<(sv_check::Swatch, String)>>,
+) -> Result<u32, CliError> {
     let opts = WriteOptions {
         sixteen_bit: args.sixteen_bit,
         grey: args.grey,
@@ -275,11 +294,26 @@ fn write_pictures(
         },
     };
     let (width, height) = (frame.width, frame.height);
-    let pixels = Pixels {
-        width,
-        height,
-        rgb: &frame.rgb,
-        alpha: Some(&frame.alpha),
+    let with_legend = legend.map(|entries| {
+        let (_, full_height, rgb) =
+            sv_check::with_legend_entries(width, height, &frame.rgb, entries);
+        let mut alpha = frame.alpha.clone();
+        alpha.resize(rgb.len(), 1.0);
+        (full_height, rgb, alpha)
+    });
+    let pixels = match &with_legend {
+        Some((full_height, rgb, alpha)) => Pixels {
+            width,
+            height: *full_height,
+            rgb,
+            alpha: Some(alpha),
+        },
+        None => Pixels {
+            width,
+            height,
+            rgb: &frame.rgb,
+            alpha: Some(&frame.alpha),
+        },
     };
     if is_stdio(out) {
         // The encoder writes files; the picture is made in a temporary one
@@ -288,7 +322,7 @@ fn write_pictures(
         let path = dir.path().join("picture.png");
         write_image(&path, format, &pixels, &opts).map_err(runtime)?;
         crate::term::out_bytes(&std::fs::read(&path).map_err(runtime)?);
-        return Ok(());
+        return Ok(pixels.height);
     }
     write_image(out, format, &pixels, &opts).map_err(runtime)?;
     if aovs.region {
@@ -314,5 +348,5 @@ fn write_pictures(
         let flat: Vec<f32> = frame.normal.iter().flatten().copied().collect();
         write_pfm(&beside(out, "normal.pfm", "out"), width, height, 3, &flat).map_err(runtime)?;
     }
-    Ok(())
+    Ok(pixels.height)
 }

@@ -1,9 +1,8 @@
 //! `synthavision completions` and `synthavision man`: made from the same
 //! argument definitions as the commands themselves.
 
-use crate::args::Cli;
 use crate::error::{runtime, CliError};
-use clap::{Args, CommandFactory};
+use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -23,7 +22,7 @@ pub struct ManArgs {
 
 /// Run `completions`.
 pub fn completions(args: CompletionsArgs) -> Result<ExitCode, CliError> {
-    let mut command = Cli::command();
+    let mut command = crate::args::definition();
     let mut script = Vec::new();
     clap_complete::generate(args.shell, &mut command, "synthavision", &mut script);
     crate::term::out_bytes(&script);
@@ -32,7 +31,7 @@ pub fn completions(args: CompletionsArgs) -> Result<ExitCode, CliError> {
 
 /// Run `man`.
 pub fn man(args: ManArgs) -> Result<ExitCode, CliError> {
-    let command = Cli::command();
+    let command = crate::args::definition();
     match args.dir {
         None => {
             let mut page = Vec::new();

@@ -467,3 +467,60 @@ fn completions_and_manual_pages_come_from_the_commands() {
     assert!(o.status.success());
     assert!(dir.join("synthavision-render.1").exists());
 }
+
+#[test]
+fn render_colours_by_material_with_a_legend() {
+    let dir = fresh_dir("trust-colour-by");
+    let scene = write(
+        &dir,
+        "m.sv",
+        "BODY a SPH (0,0,0) 1\nBODY b SPH (3,0,0) 1\nREGION one = +a\nREGION two = +b\n",
+    );
+    let out = dir.join("m.png");
+    let (scene, out_text) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let o = sv(&[
+        "render",
+        scene,
+        "--size",
+        "64x48",
+        "--color-by",
+        "region",
+        "-o",
+        out_text,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let picture = image::open(&out).unwrap().into_rgb8();
+    // Two regions of one grey scene now differ in hue.
+    let hues: std::collections::BTreeSet<[u8; 3]> = picture
+        .pixels()
+        .filter(|p| p.0 != [0, 0, 0])
+        .map(|p| {
+            let max = *p.0.iter().max().unwrap() as u32;
+            p.0.map(|c| (c as u32 * 4 / max.max(1)) as u8)
+        })
+        .collect();
+    assert!(hues.len() >= 2, "{hues:?}");
+    let o = sv(&[
+        "render",
+        scene,
+        "--size",
+        "64x48",
+        "--color-by",
+        "material",
+        "--legend",
+        "-o",
+        out_text,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let picture = image::open(&out).unwrap();
+    assert!(
+        picture.height() > 48,
+        "the legend strip is below the picture"
+    );
+    assert_eq!(
+        sv(&["render", scene, "--legend", "-o", out_text])
+            .status
+            .code(),
+        Some(2)
+    );
+}

@@ -192,20 +192,22 @@ pub enum Swatch {
     Stripes([f32; 3]),
 }
 
-struct Canvas {
-    w: usize,
-    h: usize,
-    px: Vec<[f32; 3]>,
+/// A picture to draw swatches and text on.
+pub(crate) struct Canvas {
+    pub(crate) w: usize,
+    pub(crate) h: usize,
+    pub(crate) px: Vec<[f32; 3]>,
 }
 
 impl Canvas {
-    fn set(&mut self, x: usize, y: usize, c: [f32; 3]) {
+    pub(crate) fn set(&mut self, x: usize, y: usize, c: [f32; 3]) {
         if x < self.w && y < self.h {
             self.px[y * self.w + x] = c;
         }
     }
 
-    fn text(&mut self, x0: usize, y0: usize, s: &str, scale: usize) {
+    /// `s` in black from (`x0`, `y0`), 6 pixels a character at `scale` 1.
+    pub(crate) fn text(&mut self, x0: usize, y0: usize, s: &str, scale: usize) {
         for (k, ch) in s.chars().enumerate() {
             for (row, bits) in glyph(ch).iter().enumerate() {
                 for (col, b) in bits.bytes().enumerate() {
@@ -233,6 +235,13 @@ impl Canvas {
 /// and the void, each with its swatch; at most 80 entries, then a count of
 /// the rest (the full list is in the legend file).
 pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
+    let entries = legend_entries(section);
+    with_legend_entries(section.width, section.height, &section.rgb, entries)
+}
+
+/// The entries of a section view's legend: its regions (largest first;
+/// name and description), its overlapping pairs and its void.
+pub fn legend_entries(section: &Slice) -> Vec<(Swatch, String)> {
     let mut entries: Vec<(Swatch, String)> = section
         .legend
         .iter()
@@ -254,7 +263,7 @@ pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
     if section.void.is_some() {
         entries.push((Swatch::Stripes(VOID_COLOUR), "void".into()));
     }
-    with_legend_entries(section.width, section.height, &section.rgb, entries)
+    entries
 }
 
 /// A picture (`width`×`height` display colours, row-major from the top

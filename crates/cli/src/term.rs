@@ -1,7 +1,7 @@
 //! Writing for people: reports on stdout, notes and errors on stderr.
 //!
 //! A closed pipe ends the program quietly, as Unix tools do
-//! (`synthavision bodies | head -3`): `outln!` would panic instead. A
+//! (`synthavision bodies | head -3`): `println!` would panic instead. A
 //! closed stderr is ignored (the work still gets done and written), and
 //! `--quiet` silences the notes.
 
@@ -56,23 +56,43 @@ pub fn note(args: Arguments) {
     }
 }
 
-/// `out!` that ends quietly on a closed pipe.
+/// A number for people: 4 significant figures, without trailing zeros
+/// (`-2.544`, `1200`, `0.0125`).
+pub fn round(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return format!("{value}");
+    }
+    let digits = (3 - value.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let text = format!("{value:.digits$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &text
+    };
+    if text == "-0" {
+        "0".into()
+    } else {
+        text.into()
+    }
+}
+
+/// `print!` that ends quietly on a closed pipe.
 macro_rules! out {
     ($($arg:tt)*) => { $crate::term::out(format_args!($($arg)*)) };
 }
 
-/// `outln!` that ends quietly on a closed pipe.
+/// `println!` that ends quietly on a closed pipe.
 macro_rules! outln {
     () => { $crate::term::out(format_args!("\n")) };
     ($($arg:tt)*) => { $crate::term::out(format_args!("{}\n", format_args!($($arg)*))) };
 }
 
-/// `err!` that ignores a closed stderr.
+/// `eprint!` that ignores a closed stderr.
 macro_rules! err {
     ($($arg:tt)*) => { $crate::term::err(format_args!($($arg)*)) };
 }
 
-/// `errln!` that ignores a closed stderr.
+/// `eprintln!` that ignores a closed stderr.
 macro_rules! errln {
     ($($arg:tt)*) => { $crate::term::err(format_args!("{}\n", format_args!($($arg)*))) };
 }

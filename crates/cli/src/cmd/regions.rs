@@ -4,6 +4,7 @@
 use crate::args::InputArgs;
 use crate::error::{bad_input, CliError};
 use crate::load::load;
+use crate::term::round;
 use clap::Args;
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -129,25 +130,6 @@ fn bounds_text(bounds: &Aabb) -> String {
             round(high.y),
             round(high.z)
         )
-    }
-}
-
-/// A number to 4 significant figures, without trailing zeros.
-pub fn round(value: f64) -> String {
-    if value == 0.0 || !value.is_finite() {
-        return format!("{value}");
-    }
-    let digits = (3 - value.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    let text = format!("{value:.digits$}");
-    let text = if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.')
-    } else {
-        &text
-    };
-    if text == "-0" {
-        "0".into()
-    } else {
-        text.into()
     }
 }
 

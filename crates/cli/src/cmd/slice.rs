@@ -6,6 +6,7 @@ use crate::cmd::{beside, check::model, check_error};
 use crate::error::{bad_input, runtime, CliError};
 use crate::load::load;
 use crate::parse::{check_memory, parse_numbers, parse_size, parse_vec3};
+use crate::term::round;
 use crate::view::thread_pool;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -44,6 +45,10 @@ pub struct SliceArgs {
     /// Leave the legend strip (names and swatches) off the picture.
     #[arg(long)]
     pub no_legend: bool,
+    /// Frame the section with axes: ticks labelled in the model's units
+    /// along both sides, and a scale bar.
+    #[arg(long)]
+    pub axes: bool,
     /// Draw overlaps with air regions as overlaps (default: the solid
     /// region is drawn there).
     #[arg(long)]
@@ -95,10 +100,16 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
     let section = thread_pool(args.check.threads)?
         .install(|| sv_check::slice(&model, &opts))
         .map_err(check_error)?;
-    let (width, height, rgb) = if args.no_legend {
-        (section.width, section.height, section.rgb.clone())
+    let (width, height, rgb) = if args.axes {
+        sv_check::with_axes(&section, &model.unit)
     } else {
-        sv_check::with_legend(&section)
+        (section.width, section.height, section.rgb.clone())
+    };
+    let (width, height, rgb) = if args.no_legend {
+        (width, height, rgb)
+    } else {
+        let entries = sv_check::legend_entries(&section);
+        sv_check::with_legend_entries(width, height, &rgb, entries)
     };
     let pixels = Pixels {
         width,
@@ -150,11 +161,11 @@ fn print_legend(out: &Path, legend_path: &Path, model: &Model, section: &Slice) 
         out.display(),
         section.width,
         section.height,
-        section.extent.0,
-        section.extent.1,
-        section.centre.x,
-        section.centre.y,
-        section.centre.z
+        round(section.extent.0),
+        round(section.extent.1),
+        round(section.centre.x),
+        round(section.centre.y),
+        round(section.centre.z)
     );
     outln!(
         "{:<9} {:<32} {:>14}",

@@ -3,6 +3,7 @@
 //! up front or end quietly, never with a panic or a silently wrong picture.
 
 use crate::{examples, fresh_dir, sv, write};
+use std::path::Path;
 use std::process::{Command, Output};
 
 /// Run the binary with `args` writing into a pipe whose reader has gone:
@@ -523,4 +524,33 @@ fn render_colours_by_material_with_a_legend() {
             .code(),
         Some(2)
     );
+}
+
+#[test]
+fn slices_can_have_axes_and_print_rounded_numbers() {
+    let dir = fresh_dir("trust-axes");
+    let scene = examples().join("figure1/figure1.sv");
+    let plain = dir.join("plain.png");
+    let framed = dir.join("framed.png");
+    let slice = |out: &Path, extra: &[&str]| {
+        let mut args = vec!["slice", scene.to_str().unwrap(), "--plane", "z=0.1"];
+        args.extend_from_slice(&["--no-legend", "-o", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let o = sv(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    let report = slice(&plain, &[]);
+    slice(&framed, &["--axes"]);
+    let first = report.lines().next().unwrap();
+    // `centre (0.4, 0, 0.1)`, not `centre (0.40000000000000036, …)`.
+    assert!(!first.contains("0000"), "{first}");
+    let (plain, framed) = (
+        image::open(plain).unwrap().into_rgb8(),
+        image::open(framed).unwrap().into_rgb8(),
+    );
+    assert!(framed.width() > plain.width() && framed.height() > plain.height());
+    // Tick labels and the scale bar are black ink on white margins.
+    let ink = framed.pixels().filter(|p| p.0 == [0, 0, 0]).count();
+    assert!(ink > 200, "{ink} black pixels");
 }

@@ -101,3 +101,32 @@ macro_rules! errln {
 macro_rules! noteln {
     ($($arg:tt)*) => { $crate::term::note(format_args!("{}\n", format_args!($($arg)*))) };
 }
+
+/// A spinner with the time taken, for work without steps to count
+/// (`check`, `volume`), when stderr is a terminal and `--quiet` was not
+/// given; cleared when dropped.
+pub struct Spinner(Option<indicatif::ProgressBar>);
+
+impl Spinner {
+    /// Start spinning with `message`.
+    pub fn start(message: &str) -> Spinner {
+        if quiet() || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            return Spinner(None);
+        }
+        let bar = indicatif::ProgressBar::new_spinner();
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {msg} {elapsed}") {
+            bar.set_style(style);
+        }
+        bar.set_message(message.to_string());
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        Spinner(Some(bar))
+    }
+}
+
+impl Drop for Spinner {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.0 {
+            bar.finish_and_clear();
+        }
+    }
+}

@@ -94,9 +94,11 @@ pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
         strict_air: args.strict_air || input.strict_air(),
         ..Default::default()
     };
+    let spinner = crate::term::Spinner::start("checking for overlaps and voids");
     let report = thread_pool(args.check.threads)?
         .install(|| sv_check::check(&model, &opts))
         .map_err(check_error)?;
+    drop(spinner);
     if args.json {
         outln!("{}", report.to_json());
     } else {

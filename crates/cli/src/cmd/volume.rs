@@ -57,9 +57,11 @@ pub fn volume(args: VolumeArgs) -> Result<ExitCode, CliError> {
     let scene = load(Some(&args.scene), &args.input)?.scene;
     // Warnings about bodies were reported, located, by the reader.
     let (model, _) = Model::new(&scene, &UniverseChoice::None).map_err(volume_error)?;
+    let spinner = crate::term::Spinner::start("measuring volumes");
     let report = thread_pool(args.threads)?
         .install(|| sv_check::volumes(&model, &opts))
         .map_err(volume_error)?;
+    drop(spinner);
     if args.json {
         outln!("{}", report.to_json());
     } else {

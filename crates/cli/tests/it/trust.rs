@@ -52,6 +52,14 @@ fn closed_pipes_end_quietly() {
     }
 }
 
+/// Run the binary with `args`, which must succeed.
+fn succeeds(args: &[&str]) -> Output {
+    let o = sv(args);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{args:?}: {stderr}");
+    o
+}
+
 /// A run that must be refused with exit 2 before writing `out`.
 fn refused(o: &Output, out: &std::path::Path, says: &str) {
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -72,15 +80,9 @@ fn sizes_beyond_memory_are_refused_before_allocating() {
         out.to_str().unwrap(),
     ]);
     refused(&o, &out, "of memory");
-    let script = write(&dir, "f.svs", "SCENE \"SCENE\"\nFPS 12\nSHOOT\n");
     let scene = examples().join("figure1/figure1.sv");
-    std::fs::write(
-        &script,
-        std::fs::read_to_string(&script)
-            .unwrap()
-            .replace("SCENE\"", &format!("{}\"", scene.display())),
-    )
-    .unwrap();
+    let text = format!("SCENE \"{}\"\nFPS 12\nSHOOT\n", scene.display());
+    let script = write(&dir, "f.svs", &text);
     let film = dir.join("film");
     let o = sv(&[
         "film",
@@ -271,8 +273,7 @@ fn a_film_re_run_at_another_size_leaves_no_old_film() {
         let mut args = vec!["film", script.to_str().unwrap(), "--no-mp4", "-o"];
         args.push(film.to_str().unwrap());
         args.extend_from_slice(extra);
-        let o = sv(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        succeeds(&args);
     };
     run(&[]);
     assert!(film.join("film.gif").exists() && film.join("contact.png").exists());
@@ -284,6 +285,24 @@ fn a_film_re_run_at_another_size_leaves_no_old_film() {
     run(&["--size", "16x12"]);
     let gif = image::open(film.join("film.gif")).unwrap();
     assert_eq!((gif.width(), gif.height()), (16, 12));
+}
+
+/// A FLUKA input in free format: `bodies` (from line 5), `regions` and
+/// the cards after the geometry.
+fn fluka(bodies: &[&str], regions: &[&str], after: &[&str]) -> String {
+    let mut lines = vec![
+        "TITLE",
+        "test",
+        "GEOBEGIN                                                              COMBNAME",
+        "    0    0          test",
+    ];
+    lines.extend_from_slice(bodies);
+    lines.push("END");
+    lines.extend_from_slice(regions);
+    lines.extend_from_slice(&["END", "GEOEND"]);
+    lines.extend_from_slice(after);
+    lines.push("STOP");
+    lines.join("\n")
 }
 
 #[test]
@@ -319,21 +338,11 @@ fn geometry_rules_are_reported_at_the_body_card_in_every_reader() {
         ),
         (
             "f.inp",
-            [
-                "TITLE",
-                "bad plane",
-                "GEOBEGIN                                                              COMBNAME",
-                "    0    0          bad plane",
-                "SPH blk 0 0 0 100",
-                "PLA p 0 0 0 1 1 1",
-                "END",
-                "BLKBODY 5 +blk -p",
-                "R1 5 +blk +p",
-                "END",
-                "GEOEND",
-                "STOP",
-            ]
-            .join("\n"),
+            fluka(
+                &["SPH blk 0 0 0 100", "PLA p 0 0 0 1 1 1"],
+                &["BLKBODY 5 +blk -p", "R1 5 +blk +p"],
+                &[],
+            ),
             "f.inp:6:1",
             "normal",
         ),
@@ -357,41 +366,34 @@ fn convert_writes_fluka_half_spaces_as_haf_and_they_cut_alike() {
     let input = write(
         &dir,
         "h.inp",
-        &[
-            "TITLE",
-            "half-spaces",
-            "GEOBEGIN                                                              COMBNAME",
-            "    0    0          half-spaces",
-            "SPH blk 0 0 0 1000",
-            "RPP box -5 5 -5 5 -5 5",
-            "XYP top 2",
-            "XZP side 1",
-            "YZP back -1",
-            "PLA slant 1 1 1 0 0 0",
-            "END",
-            "BLKBODY 5 +blk -box",
-            "R1 5 +box +top +side -back +slant",
-            "END",
-            "GEOEND",
-            "ASSIGNMA    BLCKHOLE   BLKBODY",
-            "ASSIGNMA      IRON        R1",
-            "STOP",
-        ]
-        .join("\n"),
+        &fluka(
+            &[
+                "SPH blk 0 0 0 1000",
+                "RPP box -5 5 -5 5 -5 5",
+                "XYP top 2",
+                "XZP side 1",
+                "YZP back -1",
+                "PLA slant 1 1 1 0 0 0",
+            ],
+            &["BLKBODY 5 +blk -box", "R1 5 +box +top +side -back +slant"],
+            &[
+                "ASSIGNMA    BLCKHOLE   BLKBODY",
+                "ASSIGNMA      IRON        R1",
+            ],
+        ),
     );
     let deck = dir.join("h.cg");
-    let o = sv(&[
+    succeeds(&[
         "convert",
         input.to_str().unwrap(),
         "-o",
         deck.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&deck).unwrap();
     assert_eq!(text.matches("HAF").count(), 4, "{text}");
     // The same crossings along rays through each cut.
     let crossings = |file: &std::path::Path, from: &str, dir: &str| {
-        let o = sv(&[
+        let o = succeeds(&[
             "shoot",
             file.to_str().unwrap(),
             "--from",
@@ -399,7 +401,6 @@ fn convert_writes_fluka_half_spaces_as_haf_and_they_cut_alike() {
             "--dir",
             dir,
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let stdout = String::from_utf8_lossy(&o.stdout).to_string();
         let columns: Vec<String> = stdout
             .lines()
@@ -479,7 +480,7 @@ fn render_colours_by_material_with_a_legend() {
     );
     let out = dir.join("m.png");
     let (scene, out_text) = (scene.to_str().unwrap(), out.to_str().unwrap());
-    let o = sv(&[
+    succeeds(&[
         "render",
         scene,
         "--size",
@@ -489,7 +490,6 @@ fn render_colours_by_material_with_a_legend() {
         "-o",
         out_text,
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let picture = image::open(&out).unwrap().into_rgb8();
     // Two regions of one grey scene now differ in hue.
     let hues: std::collections::BTreeSet<[u8; 3]> = picture
@@ -501,7 +501,7 @@ fn render_colours_by_material_with_a_legend() {
         })
         .collect();
     assert!(hues.len() >= 2, "{hues:?}");
-    let o = sv(&[
+    succeeds(&[
         "render",
         scene,
         "--size",
@@ -512,7 +512,6 @@ fn render_colours_by_material_with_a_legend() {
         "-o",
         out_text,
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let picture = image::open(&out).unwrap();
     assert!(
         picture.height() > 48,
@@ -536,8 +535,7 @@ fn slices_can_have_axes_and_print_rounded_numbers() {
         let mut args = vec!["slice", scene.to_str().unwrap(), "--plane", "z=0.1"];
         args.extend_from_slice(&["--no-legend", "-o", out.to_str().unwrap()]);
         args.extend_from_slice(extra);
-        let o = sv(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = succeeds(&args);
         String::from_utf8_lossy(&o.stdout).to_string()
     };
     let report = slice(&plain, &[]);

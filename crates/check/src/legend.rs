@@ -183,26 +183,31 @@ fn glyph(c: char) -> [&'static str; 7] {
     }
 }
 
-#[derive(Clone, Copy)]
-enum Swatch {
+/// How an entry of a legend is shown.
+#[derive(Clone, Copy, Debug)]
+pub enum Swatch {
+    /// A square of the colour.
     Solid([f32; 3]),
+    /// Stripes of the colour and black (overlaps, voids).
     Stripes([f32; 3]),
 }
 
-struct Canvas {
-    w: usize,
-    h: usize,
-    px: Vec<[f32; 3]>,
+/// A picture to draw swatches and text on.
+pub(crate) struct Canvas {
+    pub(crate) w: usize,
+    pub(crate) h: usize,
+    pub(crate) px: Vec<[f32; 3]>,
 }
 
 impl Canvas {
-    fn set(&mut self, x: usize, y: usize, c: [f32; 3]) {
+    pub(crate) fn set(&mut self, x: usize, y: usize, c: [f32; 3]) {
         if x < self.w && y < self.h {
             self.px[y * self.w + x] = c;
         }
     }
 
-    fn text(&mut self, x0: usize, y0: usize, s: &str, scale: usize) {
+    /// `s` in black from (`x0`, `y0`), 6 pixels a character at `scale` 1.
+    pub(crate) fn text(&mut self, x0: usize, y0: usize, s: &str, scale: usize) {
         for (k, ch) in s.chars().enumerate() {
             for (row, bits) in glyph(ch).iter().enumerate() {
                 for (col, b) in bits.bytes().enumerate() {
@@ -230,8 +235,13 @@ impl Canvas {
 /// and the void, each with its swatch; at most 80 entries, then a count of
 /// the rest (the full list is in the legend file).
 pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
-    let width = section.width as usize;
-    let scale = if width >= 560 { 2 } else { 1 };
+    let entries = legend_entries(section);
+    with_legend_entries(section.width, section.height, &section.rgb, entries)
+}
+
+/// The entries of a section view's legend: its regions (largest first;
+/// name and description), its overlapping pairs and its void.
+pub fn legend_entries(section: &Slice) -> Vec<(Swatch, String)> {
     let mut entries: Vec<(Swatch, String)> = section
         .legend
         .iter()
@@ -253,6 +263,20 @@ pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
     if section.void.is_some() {
         entries.push((Swatch::Stripes(VOID_COLOUR), "void".into()));
     }
+    entries
+}
+
+/// A picture (`width`×`height` display colours, row-major from the top
+/// left) with a legend strip of `entries` underneath, as a section view's:
+/// at most 80 entries, then a count of the rest.
+pub fn with_legend_entries(
+    picture_width: u32,
+    picture_height: u32,
+    picture: &[[f32; 3]],
+    mut entries: Vec<(Swatch, String)>,
+) -> (u32, u32, Vec<[f32; 3]>) {
+    let width = picture_width as usize;
+    let scale = if width >= 560 { 2 } else { 1 };
     const MAX: usize = 80;
     if entries.len() > MAX {
         let rest = entries.len() - (MAX - 1);
@@ -287,22 +311,22 @@ pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
     } else {
         2 * margin + rows * line
     };
-    let height = section.height as usize + strip;
+    let height = picture_height as usize + strip;
     let mut canvas = Canvas {
         w: width,
         h: height,
         px: vec![[1.0; 3]; width * height],
     };
-    canvas.px[..section.rgb.len()].copy_from_slice(&section.rgb);
+    canvas.px[..picture.len()].copy_from_slice(picture);
     if strip > 0 {
         for x in 0..width {
-            canvas.set(x, section.height as usize, [0.3; 3]);
+            canvas.set(x, picture_height as usize, [0.3; 3]);
         }
     }
     for (index, (swatch, text)) in entries.iter().enumerate() {
         let (column, row) = (index % columns, index / columns);
         let x0 = margin + column * column_width;
-        let y0 = section.height as usize + margin + row * line + scale;
+        let y0 = picture_height as usize + margin + row * line + scale;
         for dy in 0..swatch_size {
             for dx in 0..swatch_size {
                 let edge = dx == 0 || dy == 0 || dx + 1 == swatch_size || dy + 1 == swatch_size;
@@ -322,7 +346,7 @@ pub fn with_legend(section: &Slice) -> (u32, u32, Vec<[f32; 3]>) {
         }
         canvas.text(x0 + swatch_size + 3 * scale, y0, &label(text), scale);
     }
-    (section.width, height as u32, canvas.px)
+    (picture_width, height as u32, canvas.px)
 }
 
 #[cfg(test)]

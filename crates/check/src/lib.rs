@@ -37,6 +37,7 @@
 #![warn(missing_docs)]
 
 mod analyse;
+mod axes;
 mod check;
 mod colour;
 mod legend;
@@ -48,9 +49,10 @@ mod slice;
 mod volume;
 
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
+pub use axes::with_axes;
 pub use check::{check, CheckOptions};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
-pub use legend::with_legend;
+pub use legend::{legend_entries, with_legend, with_legend_entries, Swatch};
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};
 pub use report::{Outside, Overlap, Problem, Report, UniverseInfo, Void};

@@ -37,6 +37,15 @@ pub struct VolumeOptions {
     pub seed: u64,
 }
 
+impl VolumeOptions {
+    /// The fewest rays that estimate anything: the minimum of batches
+    /// over the whole model. A smaller [`VolumeOptions::max_rays`] would
+    /// leave regions with no estimate, not a volume of 0.
+    pub fn min_rays(&self) -> u64 {
+        u64::from(self.min_batches) * 3 * u64::from(self.rays_per_side).pow(2)
+    }
+}
+
 impl Default for VolumeOptions {
     fn default() -> Self {
         VolumeOptions {

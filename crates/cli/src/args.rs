@@ -1,17 +1,32 @@
 //! The command line: the subcommands, and the groups of options several of
 //! them share. Each command's own options are beside it in [`crate::cmd`].
 
-use crate::cmd;
+use crate::{cmd, parse};
 use clap::{Args, Parser, Subcommand};
 
 /// SynthaVision: Combinatorial Geometry visual simulation, after MAGI's
 /// 1971 system. Reads scenes (.sv), COMGEOM/GIFT decks (.cg) and FLUKA
 /// inputs (.inp).
 #[derive(Parser, Debug)]
-#[command(name = "synthavision", version, about, long_about = None)]
+#[command(name = "synthavision", version, about, long_about = None, after_help = EXIT_CODES)]
 pub struct Cli {
+    /// Print no notes (warnings and errors are still printed).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// The exit codes, shown under every command's help.
+pub const EXIT_CODES: &str =
+    "Exit codes: 0 done; 1 problems found (check); 2 bad input or options \
+(nothing is written); 3 output could not be written or another failure.";
+
+/// The command line's definition, every command's help ending with the
+/// exit codes (for parsing, completions and manual pages alike).
+pub fn definition() -> clap::Command {
+    <Cli as clap::CommandFactory>::command()
+        .mut_subcommands(|command| command.after_help(EXIT_CODES))
 }
 
 #[derive(Subcommand, Debug)]
@@ -38,6 +53,12 @@ pub enum Command {
     Volume(cmd::volume::VolumeArgs),
     /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
     Export(cmd::export::ExportArgs),
+    /// Every region: number, name, material, air code, bodies, bounds.
+    Regions(cmd::regions::RegionsArgs),
+    /// Shell completions (bash, zsh, fish, elvish, powershell) on stdout.
+    Completions(cmd::shell::CompletionsArgs),
+    /// The manual page (roff) on stdout, or one per command into a folder.
+    Man(cmd::shell::ManArgs),
 }
 
 #[derive(Args, Debug, Clone)]
@@ -64,11 +85,11 @@ pub struct ViewArgs {
     /// Orthographic view (BRL-CAD's default), fitted to the model.
     #[arg(long)]
     pub ortho: bool,
-    /// Azimuth of the default view in degrees.
-    #[arg(long)]
+    /// Azimuth of the default view in degrees [default: 35].
+    #[arg(long, value_parser = parse::finite, allow_hyphen_values = true)]
     pub az: Option<f64>,
-    /// Elevation of the default view in degrees.
-    #[arg(long)]
+    /// Elevation of the default view in degrees [default: 25].
+    #[arg(long, value_parser = parse::finite, allow_hyphen_values = true)]
     pub el: Option<f64>,
     /// Eye point X,Y,Z (with --at).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
@@ -76,8 +97,8 @@ pub struct ViewArgs {
     /// Aim point X,Y,Z (with --eye).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub at: Option<String>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
+    /// Vertical field of view in degrees (more than 0, less than 180).
+    #[arg(long, value_parser = parse::positive, allow_hyphen_values = true)]
     pub fov: Option<f64>,
     /// The axis that points up in the default view: z (COMGEOM decks,
     /// BRL-CAD; the default), y (most accelerator halls) or x. --az and
@@ -86,7 +107,12 @@ pub struct ViewArgs {
     pub up: Option<String>,
     /// Height of an orthographic view in model units (with --ortho;
     /// default: the model's bounding-box diagonal, as rt sizes its view).
-    #[arg(long, value_name = "S")]
+    #[arg(
+        long,
+        value_name = "S",
+        value_parser = parse::positive,
+        allow_hyphen_values = true
+    )]
     pub view_size: Option<f64>,
     /// Cut the model open with a plane: `y=0` takes away everything with
     /// y > 0, `-y=0` everything with y < 0; `NX,NY,NZ,PX,PY,PZ` takes away
@@ -110,7 +136,7 @@ pub struct ViewArgs {
     #[arg(long, conflicts_with_all = ["eye", "at", "fov"])]
     pub rt: bool,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = parse::threads)]
     pub threads: Option<usize>,
 }
 
@@ -128,9 +154,14 @@ pub struct UniverseArgs {
     pub no_universe: bool,
     /// Overlaps and voids no longer than this along a ray are ignored
     /// (model units; default 1e-5 of the bounding-box diagonal).
-    #[arg(long, value_name = "T")]
+    #[arg(
+        long,
+        value_name = "T",
+        value_parser = parse::non_negative,
+        allow_hyphen_values = true
+    )]
     pub tolerance: Option<f64>,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = parse::threads)]
     pub threads: Option<usize>,
 }

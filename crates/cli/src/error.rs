@@ -16,7 +16,7 @@ impl CliError {
     /// Print the message on stderr.
     pub fn print(&self) {
         match self {
-            CliError::Input(text) | CliError::Runtime(text) => eprintln!("{}", text.trim_end()),
+            CliError::Input(text) | CliError::Runtime(text) => errln!("{}", text.trim_end()),
         }
     }
 

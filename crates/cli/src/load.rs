@@ -9,6 +9,20 @@ use sv_scene::Scene;
 /// The bundled default scene: the paper's helicopter.
 pub const HELICOPTER: &str = include_str!("../../../examples/helicopter/helicopter.sv");
 
+/// The bundled scenes `bench` measures when given none: the paper's
+/// Figure 1 and its helicopter, in the binary so that it runs anywhere.
+pub const BUNDLED: [(&str, &str); 2] = [
+    (
+        "figure1.sv (bundled)",
+        include_str!("../../../examples/figure1/figure1.sv"),
+    ),
+    ("helicopter.sv (bundled)", HELICOPTER),
+];
+
+/// Up to this many warnings are drawn with their lines; more are listed
+/// one line each.
+const FULL_WARNINGS: usize = 3;
+
 /// A loaded scene and the format it was read in.
 pub struct Input {
     /// The scene, with the input options applied.
@@ -27,32 +41,67 @@ impl Input {
     }
 }
 
-/// Load a scene (or the bundled helicopter) and apply the input options.
+/// Load a scene (`-`: from standard input; `None`: the bundled
+/// helicopter) and apply the input options.
 pub fn load(path: Option<&Path>, args: &InputArgs) -> Result<Input, CliError> {
-    let opts = LoadOptions {
-        deck_version: deck_version(args.deck_version.as_deref())?,
-    };
+    let opts = load_options(args)?;
     let loaded = match path {
-        Some(path) => sv_formats::load_file(path, &opts),
-        None => {
-            let source = sv_formats::SourceFile::new("helicopter.sv (bundled)", HELICOPTER);
-            sv_formats::load_source(&source, Format::Native, &opts)
+        Some(path) if path.as_os_str() == "-" => {
+            let mut text = String::new();
+            std::io::Read::read_to_string(&mut std::io::stdin(), &mut text)
+                .map_err(|e| bad_input(format!("cannot read standard input: {e}")))?;
+            let source = sv_formats::SourceFile::new("<stdin>", text);
+            // Without a file name, the text alone tells the format.
+            let format = Format::detect(Path::new("stdin"), &source.text);
+            sv_formats::load_source(&source, format, &opts)
         }
+        Some(path) => sv_formats::load_file(path, &opts),
+        None => return load_bundled(BUNDLED[1].0, HELICOPTER, args),
     };
+    finish(loaded, args)
+}
+
+/// Load a bundled scene in the scene language, named `name`.
+pub fn load_bundled(name: &str, text: &str, args: &InputArgs) -> Result<Input, CliError> {
+    let source = sv_formats::SourceFile::new(name, text);
+    let loaded = sv_formats::load_source(&source, Format::Native, &load_options(args)?);
+    finish(loaded, args)
+}
+
+/// The reader's options from the input options.
+fn load_options(args: &InputArgs) -> Result<LoadOptions, CliError> {
+    Ok(LoadOptions {
+        deck_version: deck_version(args.deck_version.as_deref())?,
+    })
+}
+
+/// Report what reading said and apply the input options.
+fn finish(
+    loaded: Result<Loaded, sv_formats::LoadError>,
+    args: &InputArgs,
+) -> Result<Input, CliError> {
     let Loaded {
         mut scene,
         warnings,
         format,
     } = loaded.map_err(|e| load_failure(e, "nothing was written"))?;
-    if !warnings.is_empty() {
+    if warnings.len() > FULL_WARNINGS {
+        // Many warnings (a deck's non-planar faces): one line each, so the
+        // picture's own messages are not lost among them.
+        for warning in &warnings {
+            let (line, column) = warning.line_col();
+            let file = &warning.source.name;
+            errln!("warning: {file}:{line}:{column}: {}", warning.message);
+        }
+    } else if !warnings.is_empty() {
         let warnings = sv_formats::Diagnostics { items: warnings };
-        eprint!(
+        err!(
             "{}",
             crate::error::diagnostics_text(&warnings, "nothing was written")
         );
     }
     for note in &scene.notes {
-        eprintln!("note: {note}");
+        noteln!("note: {note}");
     }
     show_air(&mut scene, args.show_air);
     make_transparent(&mut scene, args)?;
@@ -80,9 +129,7 @@ fn show_air(scene: &mut Scene, asked: bool) {
         }
     }
     if scene.show_air_if_nothing_else() {
-        eprintln!(
-            "note: every region that is not air is transparent, so the air regions are shown"
-        );
+        noteln!("note: every region that is not air is transparent, so the air regions are shown");
     }
 }
 

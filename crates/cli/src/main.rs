@@ -10,6 +10,8 @@
 //! ([`parse`]), the view and the worker threads ([`view`]) and the errors
 //! ([`error`]).
 
+#[macro_use]
+mod term;
 mod args;
 mod cmd;
 mod error;

@@ -37,11 +37,9 @@ pub fn renderer(
         &cut_scene
     };
     let spec = view_spec(view)?;
-    let (mut renderer, warnings) =
+    // Warnings about bodies were reported, located, by the reader.
+    let (mut renderer, _) =
         Renderer::new(scene, aspect).map_err(|e| CliError::Input(format!("error: {e}")))?;
-    for warning in warnings {
-        eprintln!("warning: {warning}");
-    }
     let reframe = view.ortho || view.az.is_some() || view.el.is_some() || view.up.is_some();
     if reframe || view.eye.is_some() || view.at.is_some() {
         let mut camera = if reframe || scene.camera.is_none() {
@@ -196,9 +194,9 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, CliError
 }
 
 /// A progress bar of `len` steps drawn with `template`, when stderr is a
-/// terminal.
+/// terminal and `--quiet` was not given.
 pub fn progress_bar(len: u64, template: &str) -> Option<indicatif::ProgressBar> {
-    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+    if crate::term::quiet() || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         return None;
     }
     let bar = indicatif::ProgressBar::new(len);

@@ -199,13 +199,24 @@ fn lens(c: &Cursor, words: &CameraWords) -> Result<Lens, Diagnostic> {
     }
 }
 
-/// Three numbers for a colour.
+/// Three numbers for a colour, each from 0 to 1.
 pub(crate) fn colour(c: &mut Cursor) -> Result<[f64; 3], Diagnostic> {
     Ok([
-        c.number(Some("red"))?,
-        c.number(Some("green"))?,
-        c.number(Some("blue"))?,
+        fraction(c, "red")?,
+        fraction(c, "green")?,
+        fraction(c, "blue")?,
     ])
+}
+
+/// A number from 0 to 1: a colour's share, an ambient light.
+pub(crate) fn fraction(c: &mut Cursor, what: &str) -> Result<f64, Diagnostic> {
+    let (value, t) = c.number_token(Some(what))?;
+    if !(0.0..=1.0).contains(&value) {
+        return Err(c
+            .error(&t, format!("{what} must lie between 0 and 1 (is {value})"))
+            .with_hint("colours and ambient light are fractions of full brightness"));
+    }
+    Ok(value)
 }
 
 /// The rest of a LIGHT statement, after the keyword.
@@ -229,7 +240,18 @@ pub(crate) fn light(c: &mut Cursor) -> Result<Light, Diagnostic> {
         match word.as_str() {
             "DIR" if parallel => dir = Some(c.vector(Some("the light direction"))?),
             "AT" if !parallel => pos = Some(c.vector(Some("the light position"))?),
-            "DECAY" if !parallel => decay = c.number(Some("the decay exponent n"))?,
+            "DECAY" if !parallel => {
+                let (value, t) = c.number_token(Some("the decay exponent n"))?;
+                if value < 0.0 {
+                    return Err(c
+                        .error(
+                            &t,
+                            format!("a decay exponent cannot be negative (is {value})"),
+                        )
+                        .with_hint("0 keeps the intensity, 2 falls off as the inverse square"));
+                }
+                decay = value;
+            }
             "INTENSITY" => light.intensity = intensity(c)?,
             "COLOR" | "COLOUR" => light.colour = colour(c)?,
             _ => {

@@ -33,11 +33,20 @@ pub struct SourceFile {
 }
 
 impl SourceFile {
-    /// A source file.
+    /// A source file. A carriage return that does not end a line (one
+    /// not followed by a line feed) is read as a space: the readers count
+    /// lines by line feeds, and so must the snippets of the diagnostics,
+    /// which would otherwise break the line there.
     pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
+        let text: Arc<str> = text.into();
+        let text = if text.contains('\r') {
+            stray_returns_to_spaces(&text).into()
+        } else {
+            text
+        };
         SourceFile {
             name: name.into(),
-            text: text.into(),
+            text,
         }
     }
 
@@ -66,6 +75,21 @@ impl SourceFile {
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
         (line, self.text[line_start..offset].chars().count() + 1)
     }
+}
+
+/// `text` with each carriage return not followed by a line feed made a
+/// space (the same length in bytes, so offsets keep their meaning).
+fn stray_returns_to_spaces(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c == '\r' && chars.peek() != Some(&'\n') {
+            out.push(' ');
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// A place on one line of a file: 1-based line and column and a length,

@@ -25,10 +25,21 @@ impl fmt::Display for Warning {
     }
 }
 
+/// The largest magnitude of a body's value. Beyond it the squares and
+/// products of ray casting and of the model's bounds overflow, and a body
+/// would vanish from the bounds without a word.
+pub const MAX_MAGNITUDE: f64 = 1e50;
+
 fn finite(b: &Body) -> Result<(), String> {
     for (i, v) in b.params.iter().enumerate() {
         if !v.is_finite() {
             return Err(format!("value {} is not a finite number", i + 1));
+        }
+        if v.abs() > MAX_MAGNITUDE {
+            return Err(format!(
+                "value {} is {v:e}, beyond ±{MAX_MAGNITUDE:e}: the model's bounds would overflow",
+                i + 1
+            ));
         }
     }
     Ok(())

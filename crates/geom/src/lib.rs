@@ -27,7 +27,7 @@ mod region;
 pub mod shape;
 pub mod table;
 
-pub use body::{prepare, Prepare, Warning};
+pub use body::{prepare, Prepare, Warning, MAX_MAGNITUDE};
 pub use model::{cyl_axes, quadric_matrix, Body, Geometry, TransformError};
 pub use region::{Fill, Group, Lattice, LatticeKind, Op, Region, Term, Universe, Zone};
 pub use shape::{arb_points, ars_triangles};

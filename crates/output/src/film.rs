@@ -6,6 +6,7 @@
 //! ```text
 //! DIR/frame_000000.png …      one PNG per frame, numbered from 0
 //! DIR/hashes/frame_000000     the content hash each frame was made with
+//! DIR/hashes/film.hash        the content hash the GIF, MP4 and sheet were made with
 //! DIR/film.gif                the whole film (scaled to at most gif_max_width)
 //! DIR/film.mp4                when ffmpeg is available
 //! DIR/contact.png             thumbnails of every Nth frame
@@ -339,6 +340,7 @@ where
 {
     let (rendered, reused) = render_frames(total, opts, render, progress)?;
     let dir = &opts.out_dir;
+    remove_stale_assemblies(dir, &opts.hash)?;
     let missing: Vec<usize> = (0..total)
         .filter(|&f| !opts.frames.contains(&f) && !frame_done(dir, f, &opts.hash))
         .collect();
@@ -377,7 +379,31 @@ where
             Some(ff) => write_mp4(&ff, dir, total, opts.fps),
         };
     }
+    let hash_file = dir.join("hashes").join(ASSEMBLED);
+    write_atomically(&hash_file, |w| w.write_all(opts.hash.as_bytes()))
+        .map_err(io_err(&hash_file))?;
     Ok(report)
+}
+
+/// The hash file of the assembled film (GIF, MP4, contact sheet).
+const ASSEMBLED: &str = "film.hash";
+
+/// Remove the GIF, MP4 and contact sheet of `dir` unless they were made
+/// from frames of `hash`: a film re-run at another size or from a changed
+/// script must not leave the old film beside the new frames.
+fn remove_stale_assemblies(dir: &Path, hash: &str) -> Result<(), FilmError> {
+    let hash_file = dir.join("hashes").join(ASSEMBLED);
+    if std::fs::read_to_string(&hash_file).is_ok_and(|made| made == hash) {
+        return Ok(());
+    }
+    for name in ["film.gif", "film.mp4", "contact.png", "hashes/film.hash"] {
+        let path = dir.join(name);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(io_err(&path)(e)),
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Read a frame range as given on a command line (`--frames`): `A..B`

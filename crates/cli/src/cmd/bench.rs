@@ -2,7 +2,8 @@
 
 use crate::args::{InputArgs, ViewArgs};
 use crate::error::CliError;
-use crate::load::load;
+use crate::load::{load, load_bundled, BUNDLED};
+use crate::parse::check_memory;
 use crate::view::{render_frame, renderer, size, thread_pool};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -15,12 +16,12 @@ pub struct BenchArgs {
     /// Scenes or decks to measure (the bundled examples when omitted).
     pub scenes: Vec<PathBuf>,
     /// Renders per scene; the median is reported.
-    #[arg(long, default_value_t = 5)]
-    pub repeat: usize,
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub repeat: u64,
     /// Untimed renders per scene before the timed ones (the steady state
     /// of a film: caches and light buffers made, every worker awake).
-    #[arg(long, default_value_t = 1)]
-    pub warmup: usize,
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(0..=1000))]
+    pub warmup: u64,
     #[command(flatten)]
     pub view: ViewArgs,
     #[command(flatten)]
@@ -34,23 +35,31 @@ pub struct BenchArgs {
 /// rendered `--repeat` times after `--warmup` untimed renders, the median
 /// reported.
 pub fn bench(args: BenchArgs) -> Result<ExitCode, CliError> {
-    let scenes: Vec<Option<PathBuf>> = if args.scenes.is_empty() {
-        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-        vec![Some(examples.join("figure1/figure1.sv")), None]
+    let scenes: Vec<Result<&Path, (&str, &str)>> = if args.scenes.is_empty() {
+        BUNDLED.iter().map(|&bundled| Err(bundled)).collect()
     } else {
-        args.scenes.iter().cloned().map(Some).collect()
+        args.scenes.iter().map(|path| Ok(path.as_path())).collect()
     };
     let threads = args.view.threads.unwrap_or_else(rayon::current_num_threads);
     let pool = thread_pool(Some(threads))?;
     if !args.json {
-        println!(
+        outln!(
             "{:<40} {:>9} {:>8} {:>8} {:>12} {:>14}",
-            "scene", "size", "threads", "shadows", "median s", "Mrays/s/core"
+            "scene",
+            "size",
+            "threads",
+            "shadows",
+            "median s",
+            "Mrays/s/core"
         );
     }
-    for path in scenes {
-        let scene = load(path.as_deref(), &args.input)?.scene;
+    for source in scenes {
+        let scene = match source {
+            Ok(path) => load(Some(path), &args.input)?.scene,
+            Err((name, text)) => load_bundled(name, text, &args.input)?.scene,
+        };
         let (width, height) = size(&args.view, &scene)?;
+        check_memory(width, height, 16, "a picture")?;
         let renderer = renderer(&scene, &args.view, width, height)?;
         let settings = Settings {
             width,
@@ -64,18 +73,19 @@ pub fn bench(args: BenchArgs) -> Result<ExitCode, CliError> {
         let rays = (width as f64) * (height as f64);
         let per_core = rays / median / threads as f64 / 1e6;
         let coverage = frame.alpha.iter().filter(|a| **a > 0.0).count() as f64 / rays;
-        let name = path
-            .as_ref()
-            .map_or("helicopter (bundled)".into(), |p| p.display().to_string());
+        let name = match source {
+            Ok(path) => path.display().to_string(),
+            Err((name, _)) => name.to_string(),
+        };
         if args.json {
-            println!(
+            outln!(
                 "{}",
                 serde_json::json!({"scene": name, "width": width, "height": height, "threads": threads,
                     "shadows": settings.shadows, "median_s": median, "times_s": times,
                     "mrays_per_s_per_core": per_core, "coverage": coverage})
             );
         } else {
-            println!(
+            outln!(
                 "{:<40} {:>9} {:>8} {:>8} {:>12.4} {:>14.2}",
                 name,
                 format!("{width}x{height}"),
@@ -107,7 +117,7 @@ fn time_renders(
         render_frame(renderer, settings, pool, false, &mut frame);
     }
     let mut times = Vec::new();
-    for _ in 0..args.repeat.max(1) {
+    for _ in 0..args.repeat {
         let start = Instant::now();
         render_frame(renderer, settings, pool, false, &mut frame);
         times.push(start.elapsed().as_secs_f64());

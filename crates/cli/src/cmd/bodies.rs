@@ -13,12 +13,14 @@ pub fn bodies() -> Result<ExitCode, CliError> {
         } else {
             format!(" (also {})", body_type.aliases.join(", "))
         };
-        println!(
+        outln!(
             "{:<5} {:<8} {}{alias}",
-            body_type.name, body_type.family, body_type.doc
+            body_type.name,
+            body_type.family,
+            body_type.doc
         );
         if !params.is_empty() {
-            println!("      values: {}", params.join(" "));
+            outln!("      values: {}", params.join(" "));
         }
     }
     Ok(ExitCode::SUCCESS)

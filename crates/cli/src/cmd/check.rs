@@ -2,7 +2,7 @@
 //! pipelines (1 when any are found).
 
 use crate::args::{InputArgs, UniverseArgs};
-use crate::cmd::{check_error, emit};
+use crate::cmd::check_error;
 use crate::error::{bad_input, CliError};
 use crate::load::load;
 use crate::parse::parse_numbers;
@@ -16,11 +16,11 @@ use sv_scene::Scene;
 
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub scene: PathBuf,
     /// Distance between grid rays (model units; default: about 120 000
     /// rays in all, as a cube with 200 rays per side).
-    #[arg(long, value_name = "D")]
+    #[arg(long, value_name = "D", value_parser = crate::parse::positive, allow_hyphen_values = true)]
     pub spacing: Option<f64>,
     /// Extra rays in random directions.
     #[arg(long, value_name = "N", default_value_t = 0)]
@@ -68,10 +68,8 @@ pub fn model(scene: &Scene, universe: &UniverseArgs) -> Result<Model, CliError> 
             )));
         }
     }
-    let (model, warnings) = Model::new(scene, &choice).map_err(check_error)?;
-    for warning in warnings {
-        eprintln!("warning: {warning}");
-    }
+    // Warnings about bodies were reported, located, by the reader.
+    let (model, _) = Model::new(scene, &choice).map_err(check_error)?;
     Ok(model)
 }
 
@@ -96,13 +94,15 @@ pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
         strict_air: args.strict_air || input.strict_air(),
         ..Default::default()
     };
+    let spinner = crate::term::Spinner::start("checking for overlaps and voids");
     let report = thread_pool(args.check.threads)?
         .install(|| sv_check::check(&model, &opts))
         .map_err(check_error)?;
+    drop(spinner);
     if args.json {
-        emit(&format!("{}\n", report.to_json()));
+        outln!("{}", report.to_json());
     } else {
-        emit(&report.to_table());
+        out!("{}", report.to_table());
     }
     Ok(
         if report.is_clean() && (report.met_every_region() || args.allow_unsampled) {

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub input: PathBuf,
     /// Output: `.cg` for a v5 COMGEOM deck, `.sv` for the scene language.
     #[arg(short, long)]
@@ -31,7 +31,7 @@ pub fn convert(args: ConvertArgs) -> Result<ExitCode, CliError> {
         Some("cg") => {
             let deck = sv_formats::comgeom::write(&scene).map_err(|e| bad_input(e.to_string()))?;
             for note in &deck.notes {
-                eprintln!("note: {note}");
+                noteln!("note: {note}");
             }
             deck.text
         }

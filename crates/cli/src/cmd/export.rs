@@ -21,7 +21,7 @@ pub enum ExportFormat {
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub scene: PathBuf,
     /// Output format.
     #[arg(long, value_enum)]

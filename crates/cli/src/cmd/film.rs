@@ -1,7 +1,7 @@
 //! `synthavision film`: render a director's script.
 
 use crate::error::{bad_input, load_failure, runtime, CliError};
-use crate::parse::parse_size;
+use crate::parse::{check_memory, parse_size};
 use crate::view::{progress_bar, thread_pool};
 use clap::Args;
 use std::path::PathBuf;
@@ -31,7 +31,7 @@ pub struct FilmArgs {
     #[arg(long)]
     pub no_shadows: bool,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::parse::threads)]
     pub threads: Option<usize>,
     /// Encode frames with the sRGB curve (default: linear, as stills).
     #[arg(long)]
@@ -54,7 +54,7 @@ pub fn film(args: FilmArgs) -> Result<ExitCode, CliError> {
     let film = load_script(&args.script, &LoadOptions::default())
         .map_err(|e| load_failure(e, "no frame was rendered"))?;
     for warning in &film.warnings {
-        eprintln!("warning: {warning}");
+        errln!("warning: {warning}");
     }
     let total = film.timeline.frame_count();
     let (width, height) = match &args.size {
@@ -83,7 +83,7 @@ pub fn film(args: FilmArgs) -> Result<ExitCode, CliError> {
     );
     let hash = content_hash(&[film.fingerprint().as_bytes(), settings.as_bytes()]);
     if args.dry_run {
-        println!(
+        outln!(
             "{total} frames at {} fps, {width}x{height}; would render frames {}..{}",
             film.timeline.fps(),
             range.start,
@@ -109,6 +109,9 @@ pub fn film(args: FilmArgs) -> Result<ExitCode, CliError> {
         Encoding::Linear
     };
     let pool = thread_pool(args.threads)?;
+    // Frames render side by side, each with its buffers.
+    let frames_at_once = pool.current_num_threads() as u64;
+    check_memory(width, height, 24 * frames_at_once, "a film's frames")?;
     let start = Instant::now();
     let report = pool.install(|| render_film(&film, &opts, &settings, encoding))?;
     print_report(&report, start.elapsed().as_secs_f64());
@@ -161,7 +164,7 @@ fn render_film(
 
 /// What was rendered in `seconds`, and where the film went.
 fn print_report(report: &FilmReport, seconds: f64) {
-    println!(
+    outln!(
         "{} frames rendered, {} already done, in {:.1} s ({:.1} frames/s)",
         report.rendered.len(),
         report.reused.len(),
@@ -169,18 +172,18 @@ fn print_report(report: &FilmReport, seconds: f64) {
         report.rendered.len() as f64 / seconds.max(1e-9)
     );
     if !report.missing.is_empty() {
-        println!(
+        outln!(
             "{} frames of the film are still to be rendered; the film is assembled when all are done",
             report.missing.len()
         );
     }
     if let Some(gif) = &report.gif {
-        println!("GIF: {}", gif.display());
+        outln!("GIF: {}", gif.display());
     }
     if let Some(sheet) = &report.contact_sheet {
-        println!("contact sheet: {}", sheet.display());
+        outln!("contact sheet: {}", sheet.display());
     }
     if report.missing.is_empty() {
-        println!("{}", report.mp4);
+        outln!("{}", report.mp4);
     }
 }

@@ -11,7 +11,7 @@ use sv_scene::Scene;
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub scene: PathBuf,
     #[command(flatten)]
     pub input: InputArgs,
@@ -22,45 +22,48 @@ pub fn info(args: InfoArgs) -> Result<ExitCode, CliError> {
     let scene = load(Some(&args.scene), &args.input)?.scene;
     let geometry = &scene.geometry;
     if scene.title.is_empty() {
-        println!("{}", args.scene.display());
+        outln!("{}", args.scene.display());
     } else {
-        println!("{}", scene.title);
+        outln!("{}", scene.title);
     }
-    println!("units: {}", scene.units.abbrev());
+    outln!("units: {}", scene.units.abbrev());
     let mut bodies_by_type: BTreeMap<&str, usize> = BTreeMap::new();
     for body in &geometry.bodies {
         *bodies_by_type.entry(body.kind.name()).or_default() += 1;
     }
-    println!("bodies: {}", geometry.bodies.len());
+    outln!("bodies: {}", geometry.bodies.len());
     for (kind, count) in &bodies_by_type {
-        println!("  {kind:<5} {count}");
+        outln!("  {kind:<5} {count}");
     }
     let transparent = scene.regions.iter().filter(|p| p.transparent).count();
     let zones: usize = geometry.regions.iter().map(|r| r.zones.len()).sum();
-    println!(
+    outln!(
         "regions: {} ({} zones; {} transparent)",
         geometry.regions.len(),
         zones,
         transparent
     );
-    let (prepared, warnings) = sv_trace::Prepared::new(geometry, &Default::default())
+    // Warnings about bodies were reported, located, by the reader.
+    let (prepared, _) = sv_trace::Prepared::new(geometry, &Default::default())
         .map_err(|e| CliError::Input(format!("error: {e}")))?;
-    for warning in warnings {
-        println!("warning: {warning}");
-    }
     let bounds = prepared.bounds();
     if bounds.is_empty() {
-        println!("bounds: empty");
+        outln!("bounds: empty");
     } else {
         let (lower, upper) = (bounds.min, bounds.max);
-        println!(
+        outln!(
             "bounds: ({:.4}, {:.4}, {:.4}) to ({:.4}, {:.4}, {:.4})",
-            lower.x, lower.y, lower.z, upper.x, upper.y, upper.z
+            lower.x,
+            lower.y,
+            lower.z,
+            upper.x,
+            upper.y,
+            upper.z
         );
     }
     print_materials(&scene);
     for note in &scene.notes {
-        println!("note: {note}");
+        outln!("note: {note}");
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -77,6 +80,6 @@ fn print_materials(scene: &Scene) {
         .iter()
         .map(|(material, count)| format!("{material}×{count}"))
         .collect();
-    println!("materials: {}", materials.join(" "));
-    println!("air regions: {air}");
+    outln!("materials: {}", materials.join(" "));
+    outln!("air regions: {air}");
 }

@@ -4,23 +4,29 @@
 pub mod bench;
 pub mod bodies;
 pub mod check;
+mod colour_by;
 pub mod convert;
 pub mod export;
 pub mod film;
 pub mod info;
+pub mod regions;
 pub mod render;
+pub mod shell;
 pub mod shoot;
 pub mod slice;
 pub mod volume;
 
 use crate::args::{Cli, Command};
 use crate::error::CliError;
-use clap::Parser;
+use clap::FromArgMatches;
 use std::process::ExitCode;
 
 /// Parse the command line and run the command.
 pub fn run() -> Result<ExitCode, CliError> {
-    match Cli::parse().command {
+    let matches = crate::args::definition().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|error| error.exit());
+    crate::term::set_quiet(cli.quiet);
+    match cli.command {
         Command::Render(args) => render::render(args),
         Command::Info(args) => info::info(args),
         Command::Shoot(args) => shoot::shoot(args),
@@ -32,13 +38,10 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Slice(args) => slice::slice(args),
         Command::Volume(args) => volume::volume(args),
         Command::Export(args) => export::export(args),
+        Command::Regions(args) => regions::regions(args),
+        Command::Completions(args) => shell::completions(args),
+        Command::Man(args) => shell::man(args),
     }
-}
-
-/// Print a report on stdout; a closed pipe (`| head`) is not an error.
-fn emit(text: &str) {
-    use std::io::Write;
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
 /// A check that could not run, with a hint where one helps.

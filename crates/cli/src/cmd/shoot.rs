@@ -12,7 +12,7 @@ use sv_trace::Scratch;
 
 #[derive(Args, Debug)]
 pub struct ShootArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub scene: PathBuf,
     /// Ray origin X,Y,Z.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
@@ -46,10 +46,13 @@ pub fn shoot(args: ShootArgs) -> Result<ExitCode, CliError> {
     } else {
         start.join(", ")
     };
-    println!("start ({}, {}, {}) in {start}", from.x, from.y, from.z);
-    println!(
+    outln!("start ({}, {}, {}) in {start}", from.x, from.y, from.z);
+    outln!(
         "{:>12}  {:<8} {:<10} {:<10} region after",
-        "t", "", "body", "type"
+        "t",
+        "",
+        "body",
+        "type"
     );
     for step in prepared.walk(&Ray::new(from, dir), 0.0, &mut scratch) {
         let body = &geometry.bodies[step.body as usize];
@@ -67,7 +70,7 @@ pub fn shoot(args: ShootArgs) -> Result<ExitCode, CliError> {
             }
             after
         };
-        println!(
+        outln!(
             "{:>12.6}  {:<8} {:<10} {:<10} {}",
             step.t,
             if step.entering { "enters" } else { "leaves" },

@@ -5,7 +5,8 @@ use crate::args::{InputArgs, UniverseArgs};
 use crate::cmd::{beside, check::model, check_error};
 use crate::error::{bad_input, runtime, CliError};
 use crate::load::load;
-use crate::parse::{parse_numbers, parse_size, parse_vec3};
+use crate::parse::{check_memory, parse_numbers, parse_size, parse_vec3};
+use crate::term::round;
 use crate::view::thread_pool;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -15,7 +16,7 @@ use sv_output::{write_atomic, write_image, ImageFormat, Pixels, WriteOptions};
 
 #[derive(Args, Debug)]
 pub struct SliceArgs {
-    /// Scene, deck or FLUKA input.
+    /// Scene, deck or FLUKA, MCNP or OpenMC input (`-`: standard input).
     pub scene: PathBuf,
     /// Axis-aligned plane: x=VALUE, y=VALUE or z=VALUE.
     #[arg(long, value_name = "AXIS=VALUE", allow_hyphen_values = true)]
@@ -44,6 +45,10 @@ pub struct SliceArgs {
     /// Leave the legend strip (names and swatches) off the picture.
     #[arg(long)]
     pub no_legend: bool,
+    /// Frame the section with axes: ticks labelled in the model's units
+    /// along both sides, and a scale bar.
+    #[arg(long)]
+    pub axes: bool,
     /// Draw overlaps with air regions as overlaps (default: the solid
     /// region is drawn there).
     #[arg(long)]
@@ -63,6 +68,9 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
         .as_deref()
         .map(|text| parse_size(text, 16384))
         .transpose()?;
+    if let Some((width, height)) = size {
+        check_memory(width, height, 40, "a slice")?;
+    }
     let extent = args.extent.as_deref().map(parse_extent).transpose()?;
     let out = args.output.clone().unwrap_or_else(|| {
         let stem = args
@@ -92,10 +100,16 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
     let section = thread_pool(args.check.threads)?
         .install(|| sv_check::slice(&model, &opts))
         .map_err(check_error)?;
-    let (width, height, rgb) = if args.no_legend {
-        (section.width, section.height, section.rgb.clone())
+    let (width, height, rgb) = if args.axes {
+        sv_check::with_axes(&section, &model.unit)
     } else {
-        sv_check::with_legend(&section)
+        (section.width, section.height, section.rgb.clone())
+    };
+    let (width, height, rgb) = if args.no_legend {
+        (width, height, rgb)
+    } else {
+        let entries = sv_check::legend_entries(&section);
+        sv_check::with_legend_entries(width, height, &rgb, entries)
     };
     let pixels = Pixels {
         width,
@@ -112,7 +126,7 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
     })
     .map_err(runtime)?;
     if args.json {
-        println!("{legend}");
+        outln!("{legend}");
     } else {
         print_legend(&out, &legend_path, &model, &section);
     }
@@ -142,18 +156,18 @@ fn legend_json(out: &Path, model: &Model, section: &Slice) -> String {
 /// The legend as a table on stdout.
 fn print_legend(out: &Path, legend_path: &Path, model: &Model, section: &Slice) {
     let unit = &model.unit;
-    println!(
+    outln!(
         "{} ({}x{} px, {} x {} {unit}, centre ({}, {}, {}))",
         out.display(),
         section.width,
         section.height,
-        section.extent.0,
-        section.extent.1,
-        section.centre.x,
-        section.centre.y,
-        section.centre.z
+        round(section.extent.0),
+        round(section.extent.1),
+        round(section.centre.x),
+        round(section.centre.y),
+        round(section.centre.z)
     );
-    println!(
+    outln!(
         "{:<9} {:<32} {:>14}",
         "colour",
         "region",
@@ -165,18 +179,20 @@ fn print_legend(out: &Path, legend_path: &Path, model: &Model, section: &Slice) 
         .chain(&section.overlaps)
         .chain(&section.void);
     for entry in entries {
-        println!(
+        outln!(
             "{:<9} {:<32} {:>14.6}",
-            entry.colour, entry.label, entry.area
+            entry.colour,
+            entry.label,
+            entry.area
         );
     }
     if !section.overlaps.is_empty() {
-        println!("overlaps are drawn in magenta and black stripes");
+        outln!("overlaps are drawn in magenta and black stripes");
     }
     if section.void.is_some() {
-        println!("voids are drawn in yellow and black stripes");
+        outln!("voids are drawn in yellow and black stripes");
     }
-    println!("legend written to {}", legend_path.display());
+    outln!("legend written to {}", legend_path.display());
 }
 
 /// `--plane AXIS=VALUE`, or `--origin` with `--normal`.

@@ -8,7 +8,9 @@ mod export;
 mod film;
 mod fluka_cases;
 mod fluka_render;
+mod options;
 mod rt;
+mod trust;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -6,10 +6,12 @@ use sv_formats::{load_source, Format, LoadError, LoadOptions, SourceFile};
 use sv_math::DVec3;
 use sv_scene::{Camera, Lens};
 
-/// A scene made of `line`: its camera, or the message and hint of its
-/// first error (`error: …` and `= hint: …` lines).
+/// A scene made of `line` (after a region, since a scene without one is
+/// refused): its camera, or the message and hint of its first error
+/// (`error: …` and `= hint: …` lines).
 fn in_scene(line: &str) -> Result<Option<Camera>, Vec<String>> {
-    let src = SourceFile::new("scene.sv", format!("{line}\n"));
+    let text = format!("BODY a SPH (0,0,0) 1\nREGION r = +a\n{line}\n");
+    let src = SourceFile::new("scene.sv", text);
     match load_source(&src, Format::Native, &LoadOptions::default()) {
         Ok(loaded) => Ok(loaded.scene.camera),
         Err(LoadError::Invalid(d)) => Err(message_and_hint(&d.render_plain())),

@@ -163,13 +163,13 @@ fn diagnostic_scene_not_quoted() {
 #[test]
 fn diagnostic_hold_zero() {
     let text = format!("{HEADER}{}\n", "HOLD 0");
-    assert_eq!(errors(&text), "error: expected a whole number of frames (at least 1), found `0`\n --> film.svs:6:6\n  |\n6 | HOLD 0\n  |      ^\n");
+    assert_eq!(errors(&text), "error: expected a whole number of frames from 1 to 1000000, found `0`\n --> film.svs:6:6\n  |\n6 | HOLD 0\n  |      ^\n");
 }
 
 #[test]
 fn diagnostic_fractional_frames() {
     let text = format!("{HEADER}{}\n", "MOVE HELICOPTER (1,0,0) OVER 2.5 FRAMES");
-    assert_eq!(errors(&text), "error: expected a whole number of frames (at least 1), found `2.5`\n --> film.svs:6:30\n  |\n6 | MOVE HELICOPTER (1,0,0) OVER 2.5 FRAMES\n  |                              ^^^\n");
+    assert_eq!(errors(&text), "error: expected a whole number of frames from 1 to 1000000, found `2.5`\n --> film.svs:6:30\n  |\n6 | MOVE HELICOPTER (1,0,0) OVER 2.5 FRAMES\n  |                              ^^^\n");
 }
 
 #[test]
@@ -187,7 +187,7 @@ fn diagnostic_fps_zero() {
 #[test]
 fn diagnostic_size_zero() {
     let text = format!("{HEADER}{}\n", "SIZE 0 10");
-    assert_eq!(errors(&text), "error: expected a width in pixels, found `0`\n --> film.svs:6:6\n  |\n6 | SIZE 0 10\n  |      ^\n");
+    assert_eq!(errors(&text), "error: expected a width in pixels from 1 to 65536, found `0`\n --> film.svs:6:6\n  |\n6 | SIZE 0 10\n  |      ^\n");
 }
 
 #[test]
@@ -217,7 +217,7 @@ fn diagnostic_negative_intensity() {
 #[test]
 fn diagnostic_repeat_count() {
     let text = format!("{HEADER}{}\n", "REPEAT many\nEND");
-    assert_eq!(errors(&text), "error: expected a repeat count (at least 1), found `many`\n --> film.svs:6:8\n  |\n6 | REPEAT many\n  |        ^^^^\n");
+    assert_eq!(errors(&text), "error: expected a repeat count from 1 to 1000000, found `many`\n --> film.svs:6:8\n  |\n6 | REPEAT many\n  |        ^^^^\n");
 }
 
 #[test]
@@ -366,7 +366,7 @@ fn every_error_is_reported_at_once_in_file_order() {
         [
             "error: unknown object or light `HELICOPTR`",
             "error: unknown axis `9`",
-            "error: expected a whole number of frames (at least 1), found `0`",
+            "error: expected a whole number of frames from 1 to 1000000, found `0`",
             "error: unknown command `FLY`",
         ]
     );

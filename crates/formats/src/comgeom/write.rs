@@ -2,6 +2,7 @@
 
 use std::fmt::Write as _;
 use sv_geom::{Body, BodyKind, Op, Region};
+use sv_math::DVec3;
 use sv_scene::{RegionProps, Scene};
 
 /// Most zones a region with groups may expand to when written.
@@ -172,6 +173,29 @@ fn fmt_value(v: f64) -> (String, bool) {
     (s, exact)
 }
 
+/// FLUKA's half-spaces (XYP, XZP, YZP, PLA) as the HAF body that is the
+/// same half-space (`N·x <= D`, N the unit outward normal), written as
+/// every HAF is; `None` for any other body, or one whose values do not
+/// make a plane.
+fn fluka_half_space_as_haf(b: &Body) -> Option<Body> {
+    let (normal, point) = match (b.kind, b.params.as_slice()) {
+        (BodyKind::Xyp, &[z]) => (DVec3::Z, DVec3::new(0.0, 0.0, z)),
+        (BodyKind::Xzp, &[y]) => (DVec3::Y, DVec3::new(0.0, y, 0.0)),
+        (BodyKind::Yzp, &[x]) => (DVec3::X, DVec3::new(x, 0.0, 0.0)),
+        (BodyKind::Pla, &[nx, ny, nz, px, py, pz]) => {
+            (DVec3::new(nx, ny, nz), DVec3::new(px, py, pz))
+        }
+        _ => return None,
+    };
+    let unit = normal.try_normalize()?;
+    let distance = unit.dot(point);
+    Some(Body::new(
+        b.name.clone(),
+        BodyKind::Haf,
+        vec![unit.x, unit.y, unit.z, distance],
+    ))
+}
+
 fn card_name(kind: BodyKind) -> Option<&'static str> {
     use BodyKind::*;
     Some(match kind {
@@ -247,6 +271,14 @@ impl Deck {
 
     /// The cards of body `number`.
     fn body(&mut self, number: usize, b: &Body) -> Result<(), WriteError> {
+        let half_space = fluka_half_space_as_haf(b);
+        if let Some(haf) = &half_space {
+            self.notes.push(format!(
+                "body {}: the {} half-space is written as HAF",
+                b.name, b.kind
+            ));
+            return self.body(number, haf);
+        }
         let Some(ty) = card_name(b.kind) else {
             return Err(WriteError::Unsupported {
                 name: b.name.clone(),

@@ -483,6 +483,16 @@ impl Reader {
             let msg = format!("body `{name}` has a value out of range after its transformation");
             return at(self, msg);
         }
+        // The engine's own rules for the body (positive radii, a plane's
+        // normal not zero, …), reported at its card.
+        let mut warnings = Vec::new();
+        if let Err(msg) = sv_geom::prepare(&body, &mut warnings) {
+            return at(self, format!("{code} `{name}`: {msg}"));
+        }
+        for warning in warnings {
+            let msg = format!("{code} `{name}`: {}", warning.message);
+            self.warn(*line, *col, code_len, msg);
+        }
         self.body_index.insert(name.to_string(), self.bodies.len());
         self.bodies.push(body);
         self.body_lines.push(*line);

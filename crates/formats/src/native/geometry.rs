@@ -8,8 +8,14 @@ use crate::text::{Cursor, Token};
 use sv_geom::{Body, BodyKind, Op, Region, Term, Zone, BODY_TYPES};
 use sv_scene::{RegionProps, Scene};
 
-/// `BODY name TYPE values…`, after the keyword.
-pub(super) fn body(line: &mut Cursor, scene: &mut Scene, names: &Names) -> Result<(), Diagnostic> {
+/// `BODY name TYPE values…`, after the keyword; warnings about the body
+/// (rendered, though something is off) go to `warnings`.
+pub(super) fn body(
+    line: &mut Cursor,
+    scene: &mut Scene,
+    names: &Names,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<(), Diagnostic> {
     let name = line.any("a body name or number")?;
     let type_token = line.any("a body type (SPH, RCC, …)")?;
     let Some(kind) = BodyKind::from_name(type_token.text) else {
@@ -66,11 +72,22 @@ pub(super) fn body(line: &mut Cursor, scene: &mut Scene, names: &Names) -> Resul
     if names.bodies.contains_key(name.text) {
         return Err(line.error(&name, format!("body `{}` is defined twice", name.text)));
     }
-    scene
-        .geometry
-        .bodies
-        .push(Body::new(name.text.to_string(), kind, params));
-    Ok(())
+    let body = Body::new(name.text.to_string(), kind, params);
+    // The engine's own rules for the body (positive radii, min below max,
+    // …), reported at its type.
+    let mut body_warnings = Vec::new();
+    let checked = sv_geom::prepare(&body, &mut body_warnings);
+    for warning in body_warnings {
+        let message = format!("{kind} `{}`: {}", name.text, warning.message);
+        warnings.push(line.error(&type_token, message).warning());
+    }
+    // Kept even when wrong, so that the regions using it are not reported
+    // as well.
+    scene.geometry.bodies.push(body);
+    match checked {
+        Ok(_) => Ok(()),
+        Err(msg) => Err(line.error(&type_token, format!("{kind} `{}`: {msg}", name.text))),
+    }
 }
 
 const REGION_PROPS: &[&str] = &["COLOR", "COLOUR", "K", "TRANSPARENT", "OPAQUE", "DENSITY"];

@@ -65,6 +65,19 @@ pub fn read(src: &SourceFile, opts: &LoadOptions) -> Result<Loaded, Diagnostics>
         includes: vec![PathBuf::from(&src.name)],
     };
     let file = session.read_file(src);
+    if file.scene.geometry.regions.is_empty() && !session.diags.has_errors() {
+        // An empty model would draw a black picture over the output, as
+        // if all were well; decks without regions are refused alike.
+        let message = if file.scene.geometry.bodies.is_empty() {
+            "the scene has no bodies and no regions: there is nothing to draw"
+        } else {
+            "the scene has bodies but no region: there is nothing to draw"
+        };
+        session.diags.push(
+            Diagnostic::error_at(src, 1, 1, 0, message)
+                .with_hint("a region makes bodies visible: `REGION name = +body`"),
+        );
+    }
     if session.diags.has_errors() {
         return Err(session.diags);
     }
@@ -159,7 +172,7 @@ impl Session<'_> {
                 Ok(())
             }
             "UNITS" => units(line, file),
-            "BODY" => geometry::body(line, scene, &file.names),
+            "BODY" => geometry::body(line, scene, &file.names, &mut self.warnings),
             "REGION" => geometry::region(line, scene, &file.names),
             "INCLUDE" => {
                 let name = line.any("a file name in quotes")?;
@@ -173,9 +186,9 @@ impl Session<'_> {
                     .retain(|old| !old.name.eq_ignore_ascii_case(&light.name));
                 scene.lights.push(light)
             }),
-            "AMBIENT" => line
-                .number(Some("the ambient intensity"))
-                .map(|a| scene.ambient = a),
+            "AMBIENT" => {
+                camera_light::fraction(line, "the ambient intensity").map(|a| scene.ambient = a)
+            }
             "BACKGROUND" => background(line, scene),
             "SHADOWS" => shadows(line, scene),
             "SIZE" => size(line, scene),
@@ -201,12 +214,12 @@ fn units(line: &mut Cursor, file: &mut File) -> Result<(), Diagnostic> {
 
 /// `BACKGROUND grey` or `BACKGROUND r g b`.
 fn background(line: &mut Cursor, scene: &mut Scene) -> Result<(), Diagnostic> {
-    let grey = line.number(Some("the background intensity"))?;
+    let grey = camera_light::fraction(line, "the background intensity")?;
     let colour = if line.peek().is_some() {
         [
             grey,
-            line.number(Some("green"))?,
-            line.number(Some("blue"))?,
+            camera_light::fraction(line, "green")?,
+            camera_light::fraction(line, "blue")?,
         ]
     } else {
         [grey; 3]

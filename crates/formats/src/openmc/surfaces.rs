@@ -122,9 +122,14 @@ pub(super) fn read(xml: &Xml, sink: &mut Sink, node: Node) -> Option<Surface> {
     };
     // The engine's own rules for the body (positive radii, a torus's tube
     // inside its ring, …), reported where the coefficients are written.
-    if let Err(msg) = sv_geom::prepare(&body, &mut Vec::new()) {
+    let mut warnings = Vec::new();
+    if let Err(msg) = sv_geom::prepare(&body, &mut warnings) {
         sink.error(xml.error(&coeffs_value, format!("{kind} {id}: {msg}")));
         return None;
+    }
+    for warning in warnings {
+        let msg = format!("{kind} {id}: {}", warning.message);
+        sink.warn(xml.error(&coeffs_value, msg));
     }
     Some(Surface {
         id,

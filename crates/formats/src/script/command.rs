@@ -20,7 +20,7 @@ pub(super) fn count(line: &mut Cursor, what: &str, max: usize) -> PResult<usize>
     let t = line.any(what)?;
     match t.word().and_then(|w| w.parse::<usize>().ok()) {
         Some(n) if n >= 1 && n <= max => Ok(n),
-        _ => Err(line.expected(&t, what)),
+        _ => Err(line.expected(&t, &format!("{what} from 1 to {max}"))),
     }
 }
 
@@ -73,7 +73,13 @@ pub(super) fn timing(line: &mut Cursor) -> PResult<Option<(Duration, Easing)>> {
         let _ = line.eat("FRAMES") || line.eat("FRAME");
         match t.word().and_then(|w| w.parse::<usize>().ok()) {
             Some(n) if (1..=sv_director::MAX_FRAMES).contains(&n) => Duration::Frames(n),
-            _ => return Err(line.expected(&t, "a whole number of frames (at least 1)")),
+            _ => {
+                let what = format!(
+                    "a whole number of frames from 1 to {}",
+                    sv_director::MAX_FRAMES
+                );
+                return Err(line.expected(&t, &what));
+            }
         }
     };
     let easing = if line.eat("SMOOTH") {

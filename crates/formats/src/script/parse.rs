@@ -275,11 +275,7 @@ impl Parser {
     /// `SHOOT [n]`, `FRAME [n]`, `HOLD n`.
     fn shoot(&mut self, line: &mut Cursor, keyword: &Token, word: &str) -> PResult<()> {
         let frames = if word == "HOLD" || line.peek().is_some() {
-            count(
-                line,
-                "a whole number of frames (at least 1)",
-                sv_director::MAX_FRAMES,
-            )?
+            count(line, "a whole number of frames", sv_director::MAX_FRAMES)?
         } else {
             1
         };
@@ -292,7 +288,7 @@ impl Parser {
     fn repeat(&mut self, line: &mut Cursor, keyword: &Token) -> PResult<()> {
         // The block is opened even when the count is wrong, so that its
         // END is not reported as well.
-        let times = count(line, "a repeat count (at least 1)", sv_director::MAX_FRAMES);
+        let times = count(line, "a repeat count", sv_director::MAX_FRAMES);
         let _ = line.eat("TIMES");
         let rest = line.finish();
         self.open.push(Open::new(

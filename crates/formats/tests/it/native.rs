@@ -240,11 +240,13 @@ fn regions_nest_with_parentheses_and_bars_and_read_back_as_written() {
         .unwrap()
         .scene;
     let region = &scene.geometry.regions[0];
-    let names: Vec<&str> = scene.geometry.bodies.iter().map(|b| b.name.as_str()).collect();
-    assert_eq!(
-        region.expression(&|b| names[b]),
-        "+a -(+b | +c -d) | +d -a"
-    );
+    let names: Vec<&str> = scene
+        .geometry
+        .bodies
+        .iter()
+        .map(|b| b.name.as_str())
+        .collect();
+    assert_eq!(region.expression(&|b| names[b]), "+a -(+b | +c -d) | +d -a");
     assert_eq!(scene.regions[0].colour, Some([1.0, 0.0, 0.0]));
     // Written with its groups, it reads back the same.
     let written = native::write(&scene);

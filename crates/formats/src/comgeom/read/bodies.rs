@@ -129,11 +129,31 @@ impl<'a> Reader<'a> {
             }
             values
         };
-        Some(Body::new(
+        let body = Body::new(
             number.to_string(),
             kind,
             crate::comgeom::card_to_body_params(kind, params),
-        ))
+        );
+        // The engine's own rules for the body (positive radii, ARB faces
+        // that close, …), reported at its type field.
+        let (col, len) = (lay.type_col, lay.type_len);
+        let mut warnings = Vec::new();
+        if let Err(msg) = sv_geom::prepare(&body, &mut warnings) {
+            let place = at(header.line, col, len);
+            self.error(
+                header.line,
+                col,
+                len,
+                format!("{place}: {kind} body {number}: {msg}"),
+            );
+            return None;
+        }
+        for warning in warnings {
+            let place = at(header.line, col, len);
+            let msg = format!("{place}: {kind} body {number}: {}", warning.message);
+            self.warn(header.line, col, len, msg);
+        }
+        Some(body)
     }
 
     /// Read up to six values of a card into `vals` (until it holds `n`).

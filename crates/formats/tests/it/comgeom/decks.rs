@@ -37,10 +37,11 @@ fn real_decks_parse_with_the_documented_counts_and_versions() {
 fn real_decks_load_without_errors_and_only_the_gift_deck_warns() {
     for name in [VDECK, GENERATOR] {
         let Some(l) = load(name) else { return };
+        let other: Vec<_> = l.warnings.iter().filter(|w| !is_non_planar(w)).collect();
         assert!(
-            l.warnings.is_empty(),
+            other.is_empty(),
             "{name}: {:?}",
-            l.warnings.iter().map(|w| &w.message).collect::<Vec<_>>()
+            other.iter().map(|w| &w.message).collect::<Vec<_>>()
         );
     }
     let Some(l) = load(GIFT) else { return };

@@ -37,6 +37,12 @@ fn read_ok(name: &str, text: &str) -> Loaded {
     read_text(name, text).unwrap_or_else(|d| panic!("{name} does not load:\n{}", d.render_plain()))
 }
 
+/// Whether `warning` is about an ARB face that is not planar: real decks
+/// have such faces, and the reader reports them at the body's card.
+fn is_non_planar(warning: &sv_formats::Diagnostic) -> bool {
+    warning.message.contains("is not planar")
+}
+
 fn load(name: &str) -> Option<Loaded> {
     let text = deck_text(name)?;
     match read_text(name, &text) {
@@ -60,7 +66,8 @@ fn round_trip(scene: &Scene) -> Scene {
     assert_eq!(comgeom::detect_version(&w.text), DeckVersion::V5);
     match read_text("written.cg", &w.text) {
         Ok(l) => {
-            assert!(l.warnings.is_empty(), "{:?}", l.warnings);
+            let other: Vec<_> = l.warnings.iter().filter(|w| !is_non_planar(w)).collect();
+            assert!(other.is_empty(), "{other:?}");
             l.scene
         }
         Err(d) => panic!(

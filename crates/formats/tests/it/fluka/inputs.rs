@@ -224,13 +224,33 @@ fn body_parameters_match_the_card_text() {
 
 #[test]
 fn every_body_code_maps_to_its_kind_in_card_order() {
+    // Values that make each body whole (the reader checks the geometry
+    // rules too), read back in card order.
+    let cards = [
+        "RPP a 1 2 3 4 5 6",
+        "BOX b 0 0 0 1 0 0 0 2 0 0 0 3",
+        "SPH c 1 2 3 4",
+        "RCC d 1 2 3 4 5 6 7",
+        "REC e 0 0 0 0 0 5 1 0 0 0 2 0",
+        "TRC f 1 2 3 4 5 6 7 8",
+        "ELL g 0 0 0 0 0 2 4",
+        "WED h 0 0 0 1 0 0 0 2 0 0 0 3",
+        "RAW i 0 0 0 1 0 0 0 2 0 0 0 3",
+        "ARB j 0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1 4321 5678 1265 2376 3487 4158",
+        "XYP k 1",
+        "XZP l 1",
+        "YZP m 1",
+        "PLA n 1 2 3 4 5 6",
+        "XCC o 1 2 3",
+        "YCC p 1 2 3",
+        "ZCC q 1 2 3",
+        "XEC r 1 2 3 4",
+        "YEC s 1 2 3 4",
+        "ZEC t 1 2 3 4",
+        "QUA u 1 2 3 4 5 6 7 8 9 10",
+    ];
     let text = geo(
-        "RPP a 1 2 3 4 5 6\nBOX b 1 2 3 4 5 6 7 8 9 10 11 12\nSPH c 1 2 3 4\nRCC d 1 2 3 4 5 6 7\n\
-         REC e 1 2 3 4 5 6 7 8 9 10 11 12\nTRC f 1 2 3 4 5 6 7 8\nELL g 1 2 3 4 5 6 7\n\
-         WED h 1 2 3 4 5 6 7 8 9 10 11 12\nRAW i 1 2 3 4 5 6 7 8 9 10 11 12\n\
-         ARB j 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 1234 5678 1265 2376 3487 4158\n\
-         XYP k 1\nXZP l 1\nYZP m 1\nPLA n 1 2 3 4 5 6\nXCC o 1 2 3\nYCC p 1 2 3\nZCC q 1 2 3\n\
-         XEC r 1 2 3 4\nYEC s 1 2 3 4\nZEC t 1 2 3 4\nQUA u 1 2 3 4 5 6 7 8 9 10",
+        &cards.join("\n"),
         "all 5 +a +b +c +d +e +f +g +h +i +j +k +l +m +n +o +p +q +r +s +t +u",
     );
     let l = read_text(&text).unwrap();
@@ -241,16 +261,12 @@ fn every_body_code_maps_to_its_kind_in_card_order() {
     ];
     let got: Vec<_> = l.scene.geometry.bodies.iter().map(|b| b.kind).collect();
     assert_eq!(got, kinds);
-    for b in &l.scene.geometry.bodies {
-        let n = b.params.len();
-        let want: Vec<f64> = if b.kind == ArbF {
-            (1..=24)
-                .map(f64::from)
-                .chain([1234., 5678., 1265., 2376., 3487., 4158.])
-                .collect()
-        } else {
-            (1..=n).map(|i| i as f64).collect()
-        };
+    for (b, card) in l.scene.geometry.bodies.iter().zip(cards) {
+        let want: Vec<f64> = card
+            .split_whitespace()
+            .skip(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
         assert_eq!(b.params, want, "{}", b.name);
     }
 }

@@ -38,6 +38,8 @@ pub enum Command {
     Volume(cmd::volume::VolumeArgs),
     /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
     Export(cmd::export::ExportArgs),
+    /// Look into a model in a browser: turn it, pick, cut, x-ray (a local web page).
+    Studio(cmd::studio::StudioArgs),
 }
 
 #[derive(Args, Debug, Clone)]

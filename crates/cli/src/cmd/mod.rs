@@ -11,6 +11,7 @@ pub mod info;
 pub mod render;
 pub mod shoot;
 pub mod slice;
+pub mod studio;
 pub mod volume;
 
 use crate::args::{Cli, Command};
@@ -32,6 +33,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Slice(args) => slice::slice(args),
         Command::Volume(args) => volume::volume(args),
         Command::Export(args) => export::export(args),
+        Command::Studio(args) => studio::studio(args),
     }
 }
 

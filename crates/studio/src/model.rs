@@ -61,8 +61,8 @@ impl Model {
         match origin {
             Origin::Bundled => {
                 let source = SourceFile::new("helicopter.sv (bundled)", HELICOPTER);
-                let loaded = sv_formats::load_source(&source, Format::Native, &opts)
-                    .map_err(problems)?;
+                let loaded =
+                    sv_formats::load_source(&source, Format::Native, &opts).map_err(problems)?;
                 Ok(Model::from_scene(loaded, vec![source], Vec::new()))
             }
             Origin::File(path) if is_script(path) => {

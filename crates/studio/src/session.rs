@@ -55,7 +55,11 @@ pub async fn run(socket: WebSocket, shared: Arc<Shared>) {
     });
     let (views, latest_view) = watch::channel::<Option<ViewRequest>>(None);
     let (questions, pending) = mpsc::channel::<Request>(4);
-    let renderer = tokio::spawn(render_loop(shared.clone(), latest_view.clone(), out.clone()));
+    let renderer = tokio::spawn(render_loop(
+        shared.clone(),
+        latest_view.clone(),
+        out.clone(),
+    ));
     let answerer = tokio::spawn(answer_loop(
         shared.clone(),
         latest_view,

@@ -242,8 +242,8 @@ pub fn shoot(model: &Model, view: &ViewRequest, x: f64, y: f64) -> Result<Value,
     let camera = view.camera().ok_or("no view yet")?;
     let ray = camera.rays(view.width, view.height).ray(x, y);
     let geometry = &model.scene.geometry;
-    let (prepared, _) = sv_trace::Prepared::new(geometry, &Default::default())
-        .map_err(|e| e.to_string())?;
+    let (prepared, _) =
+        sv_trace::Prepared::new(geometry, &Default::default()).map_err(|e| e.to_string())?;
     let mut scratch = Scratch::new(&prepared);
     let steps: Vec<Value> = prepared
         .walk(&Ray::new(ray.origin, ray.dir), 0.0, &mut scratch)
@@ -285,10 +285,20 @@ pub fn render_to_file(
     let stem = model
         .sources
         .first()
-        .and_then(|s| Path::new(&s.name).file_stem().map(|n| n.to_string_lossy().into_owned()))
+        .and_then(|s| {
+            Path::new(&s.name)
+                .file_stem()
+                .map(|n| n.to_string_lossy().into_owned())
+        })
         .unwrap_or_else(|| "studio".into())
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect::<String>();
     std::fs::create_dir_all(output).map_err(|e| format!("{}: {e}", output.display()))?;
     let mut full = view.clone();

@@ -215,7 +215,9 @@ impl Prepared {
             let normal = DVec3::new(cut[0], cut[1], cut[2]);
             let point = DVec3::new(cut[3], cut[4], cut[5]);
             if !solid_scene.cut_away(normal, point) {
-                return Err("a cut plane needs a finite point and a normal that is not zero".into());
+                return Err(
+                    "a cut plane needs a finite point and a normal that is not zero".into(),
+                );
             }
         }
         let (solid, _) = Renderer::new(&solid_scene, 4.0 / 3.0).map_err(|e| e.to_string())?;
@@ -228,7 +230,11 @@ impl Prepared {
                     props.transparent = true;
                 }
             }
-            Some(Renderer::new(&clear_scene, 4.0 / 3.0).map_err(|e| e.to_string())?.0)
+            Some(
+                Renderer::new(&clear_scene, 4.0 / 3.0)
+                    .map_err(|e| e.to_string())?
+                    .0,
+            )
         };
         Ok(Prepared {
             looks: looks.clone(),

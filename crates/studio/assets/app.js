@@ -5,7 +5,7 @@
 const $ = (id) => document.getElementById(id);
 const token = location.pathname.split('/')[2];
 const canvas = $('view');
-const context = canvas.getContext('2d');
+const context = canvas.getContext('2d', { willReadFrequently: true });
 
 const studio = {
   model: null,
@@ -73,12 +73,16 @@ function basis(view) {
   return { right, up: cross(right, forward) };
 }
 
-function defaultView() {
+// The model framed from azimuth 35°, elevation 25° (or from the scene's
+// own camera, when it has one and `scene` is asked for).
+function defaultView(scene) {
   const m = studio.model;
-  return {
+  const view = {
     target: m.target.slice(), az: 35, el: 25, distance: m.distance,
     ortho: $('ortho').checked, view_height: 2 * m.radius, fov: 30, up: $('up').value,
   };
+  if (scene && m.camera && view.up === 'z') Object.assign(view, m.camera, { target: m.camera.target.slice() });
+  return view;
 }
 
 let pendingMoving = null;
@@ -249,12 +253,13 @@ function shoot(event) {
 
 // ---- the view buttons ---------------------------------------------------
 
-const standard = { default: [35, 25], front: [0, 0], side: [90, 0], top: [0, 90] };
+const standard = { scene: [35, 25], default: [35, 25], front: [0, 0], side: [90, 0], top: [0, 90] };
 for (const button of document.querySelectorAll('[data-view]')) {
   button.addEventListener('click', () => {
     if (!studio.model) return;
     const [az, el] = standard[button.dataset.view];
-    studio.view = Object.assign(defaultView(), { az, el });
+    const name = button.dataset.view;
+    studio.view = name === 'scene' ? defaultView(true) : Object.assign(defaultView(false), { az, el });
     requestView(false);
   });
 }
@@ -294,7 +299,7 @@ function loadModel(model) {
   $('title').textContent = `${model.title || ''} — ${model.file} (${model.regions.length} regions, ${model.units})`;
   $('notes').textContent = model.notes.join(' · ');
   if (first) {
-    studio.view = defaultView();
+    studio.view = defaultView(true);
     for (const region of model.regions) if (region.hidden) studio.hidden.add(region.index);
   }
   // A reload keeps the camera; regions that went away are forgotten.

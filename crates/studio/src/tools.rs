@@ -11,6 +11,7 @@ use std::path::Path;
 use sv_check::{Plane, SliceOptions, UniverseChoice, VolumeOptions};
 use sv_math::{DVec3, Ray};
 use sv_render::{default_camera, frame_bounds, Renderer, ViewSpec};
+use sv_scene::{Camera, Lens};
 use sv_trace::Scratch;
 
 fn hex(colour: [f64; 3]) -> String {
@@ -68,9 +69,32 @@ pub fn summary(model: &Model, version: u64) -> Result<Value, String> {
         "target": centre.to_array(),
         "distance": (camera.eye - centre).length(),
         "radius": 0.5 * bounds.diagonal(),
+        "camera": scene.camera.as_ref().and_then(orbit_of),
         "frames": frames,
         "fps": fps,
         "notes": model.notes,
+    }))
+}
+
+/// A scene's own camera as the page's orbit camera (target, azimuth,
+/// elevation, distance, field of view), when it has `z` up and a
+/// perspective lens.
+fn orbit_of(camera: &Camera) -> Option<Value> {
+    let distance = camera.dir.length();
+    let upright = camera.up.normalize_or_zero().dot(DVec3::Z) > 0.999;
+    if !(distance > 0.0 && distance.is_finite()) || !upright {
+        return None;
+    }
+    if let Lens::Ortho { .. } = camera.lens {
+        return None;
+    }
+    let toward = -camera.dir / distance;
+    Some(json!({
+        "target": (camera.eye + camera.dir).to_array(),
+        "az": toward.y.atan2(toward.x).to_degrees(),
+        "el": toward.z.clamp(-1.0, 1.0).asin().to_degrees(),
+        "distance": distance,
+        "fov": 2.0 * camera.tan_half_fov().atan().to_degrees(),
     }))
 }
 

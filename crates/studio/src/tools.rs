@@ -82,7 +82,7 @@ pub fn summary(model: &Model, version: u64) -> Result<Value, String> {
 fn orbit_of(camera: &Camera) -> Option<Value> {
     let distance = camera.dir.length();
     let upright = camera.up.normalize_or_zero().dot(DVec3::Z) > 0.999;
-    if !(distance > 0.0 && distance.is_finite()) || !upright {
+    if !(distance > 0.0 && distance.is_finite() && upright) {
         return None;
     }
     if let Lens::Ortho { .. } = camera.lens {

@@ -25,8 +25,13 @@ pub fn token_matches(given: &str, token: &str) -> bool {
             == 0
 }
 
-/// The `Host` values a request may carry for a server at `addr`.
+/// The `Host` values a request may carry for a server at `addr`; empty
+/// for an unspecified address (`0.0.0.0`), whose names cannot be known:
+/// then any `Host` passes, and an `Origin` must name the same host.
 pub fn allowed_hosts(addr: SocketAddr) -> Vec<String> {
+    if addr.ip().is_unspecified() {
+        return Vec::new();
+    }
     let port = addr.port();
     let mut hosts = vec![format!("{addr}")];
     if addr.ip().is_loopback() {
@@ -39,19 +44,21 @@ pub fn allowed_hosts(addr: SocketAddr) -> Vec<String> {
     hosts
 }
 
-/// Why a request is refused, or `None` when its `Host` and `Origin` are
-/// the server's own.
+/// Why a request is refused, or `None` when its `Host` is one of `hosts`
+/// (any, when `hosts` is empty) and its `Origin`, if any, names that host.
 pub fn refusal(headers: &HeaderMap, hosts: &[String]) -> Option<&'static str> {
     let host = headers.get(header::HOST).and_then(|v| v.to_str().ok());
-    match host {
-        Some(host) if hosts.iter().any(|h| h.eq_ignore_ascii_case(host)) => {}
+    let host = match host {
+        Some(host) if hosts.is_empty() || hosts.iter().any(|h| h.eq_ignore_ascii_case(host)) => {
+            host
+        }
         _ => return Some("the Host header does not name this server"),
-    }
+    };
     if let Some(origin) = headers.get(header::ORIGIN) {
         let origin = origin.to_str().unwrap_or("");
         let own = origin
             .strip_prefix("http://")
-            .is_some_and(|rest| hosts.iter().any(|h| h.eq_ignore_ascii_case(rest)));
+            .is_some_and(|rest| rest.eq_ignore_ascii_case(host));
         if !own {
             return Some("the page comes from another origin");
         }
@@ -92,6 +99,25 @@ mod tests {
         )
         .is_some());
         assert!(refusal(&HeaderMap::new(), &hosts).is_some());
+        // The page's origin must be the host it asked.
+        assert!(refusal(
+            &headers("localhost:7171", Some("http://127.0.0.1:7171")),
+            &hosts
+        )
+        .is_some());
+        let anywhere = allowed_hosts("0.0.0.0:7171".parse().unwrap());
+        assert_eq!(
+            refusal(
+                &headers("box.lan:7171", Some("http://box.lan:7171")),
+                &anywhere
+            ),
+            None
+        );
+        assert!(refusal(
+            &headers("box.lan:7171", Some("http://evil.example")),
+            &anywhere
+        )
+        .is_some());
     }
 
     #[test]

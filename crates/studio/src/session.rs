@@ -2,7 +2,7 @@
 //! questions answered one at a time beside the frames.
 
 use crate::limits::MAX_CUTS;
-use crate::view::{self, Prepared, ViewRequest};
+use crate::view::{self, Renderers, ViewRequest};
 use crate::{tools, Shared};
 use axum::extract::ws::{Message, WebSocket};
 use futures_util::{SinkExt, StreamExt};
@@ -122,7 +122,7 @@ async fn render_loop(
     out: mpsc::Sender<Message>,
 ) {
     let mut changes = shared.changes.subscribe();
-    let mut kept: Option<(u64, Prepared)> = None;
+    let mut kept: Option<(u64, Renderers)> = None;
     loop {
         tokio::select! {
             changed = latest_view.changed() => if changed.is_err() { return },
@@ -153,7 +153,7 @@ async fn render_loop(
             let started = Instant::now();
             let mut prepared = match cached {
                 Some((_, prepared)) => prepared,
-                None => Prepared::new(&model.scene_at(request.looks.frame), &request.looks)?,
+                None => Renderers::new(&model.scene_at(request.looks.frame), &request.looks)?,
             };
             let (frame, camera) = worker
                 .pool

@@ -4,7 +4,7 @@
 
 use crate::limits::{MAX_FRAMES_TO_FILE, MAX_SLICE_SIDE};
 use crate::model::Model;
-use crate::view::{Prepared, ViewRequest};
+use crate::view::{Renderers, ViewRequest};
 use base64::Engine as _;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -345,7 +345,7 @@ pub fn render_to_file(
             looks.frame = number;
         }
         let scene = model.scene_at(looks.frame);
-        let mut prepared = Prepared::new(&scene, &looks)?;
+        let mut prepared = Renderers::new(&scene, &looks)?;
         let (frame, _) = prepared.render(&full).ok_or("the view is not valid")?;
         let picture = sv_output::to_rgb8(
             frame.width,

@@ -187,7 +187,7 @@ impl ViewRequest {
 
 /// The renderers of one set of looks: the solid picture and, when regions
 /// are ghosted, the picture without them to blend with.
-pub struct Prepared {
+pub struct Renderers {
     /// The looks they were made for.
     pub looks: Looks,
     /// Hidden regions left out.
@@ -202,9 +202,9 @@ pub struct Prepared {
     pub shadows: bool,
 }
 
-impl Prepared {
+impl Renderers {
     /// Prepare `scene` (already at the film frame) for `looks`.
-    pub fn new(scene: &Scene, looks: &Looks) -> Result<Prepared, String> {
+    pub fn new(scene: &Scene, looks: &Looks) -> Result<Renderers, String> {
         let mut solid_scene = scene.clone();
         for &region in &looks.hidden {
             if let Some(props) = solid_scene.regions.get_mut(region) {
@@ -236,7 +236,7 @@ impl Prepared {
                     .0,
             )
         };
-        Ok(Prepared {
+        Ok(Renderers {
             looks: looks.clone(),
             solid,
             clear,

@@ -161,6 +161,16 @@ async fn a_frame_has_the_renderers_region_ids_and_picking_names_them() {
     }
     assert!(frames <= 18);
 
+    let section = json!({"type": "slice", "normal": [0, 0, 1], "point": [0, 0, 2],
+                         "width": 160, "height": 120});
+    send(&mut socket, &section).await;
+    let slice = next_json(&mut socket, "slice").await;
+    assert!(slice["png"]
+        .as_str()
+        .unwrap()
+        .starts_with("data:image/png;base64,"));
+    assert!(!slice["legend"].as_array().unwrap().is_empty());
+
     send(&mut socket, &json!({"type": "render_file"})).await;
     let written = next_json(&mut socket, "written").await;
     let file = PathBuf::from(written["files"][0].as_str().unwrap());
@@ -234,4 +244,65 @@ async fn a_changed_file_reloads_and_errors_keep_the_last_good_model() {
     let reloaded = next_json(&mut socket, "model").await;
     assert_eq!(reloaded["version"], 2);
     assert_eq!(reloaded["regions"][2]["name"], "third");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn film_frames_sections_rays_and_overlaps_are_answered() {
+    let out = tempfile::tempdir().unwrap();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let script = root.join("examples/helicopter-film/film.svs");
+    let studio = start(Some(script.clone()), out.path().into()).await;
+    let mut socket = connect(&ws_url(&studio, &studio.token), None)
+        .await
+        .unwrap();
+    let model = next_json(&mut socket, "model").await;
+    assert_eq!(model["frames"], 720);
+
+    // Frame 300 through the film's own camera.
+    let mut asked = view(&model, 1, 35.0, false);
+    asked["frame"] = json!(300);
+    asked["film_camera"] = json!(true);
+    send(&mut socket, &asked).await;
+    let (header, ids) = next_frame(&mut socket).await;
+    let film = sv_formats::script::load_script(&script, &Default::default()).unwrap();
+    let scene = film.scene_at(300);
+    let camera = scene.camera.expect("the film has a camera");
+    assert_eq!(header.eye, camera.eye.to_array());
+    let renderer = Renderer::new(&scene, 4.0 / 3.0).unwrap().0;
+    let settings = Settings {
+        width: 120,
+        height: 90,
+        shadows: false,
+        samples: 1,
+        aovs: true,
+    };
+    assert_eq!(ids, renderer.render(&settings, &|_| {}).region);
+
+    // Film frames to files, under names the server makes.
+    send(
+        &mut socket,
+        &json!({"type": "render_file", "first": 2, "last": 3}),
+    )
+    .await;
+    let written = next_json(&mut socket, "written").await;
+    let files: Vec<&str> = written["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert_eq!(files.len(), 2);
+    assert!(files[1].ends_with("film-frame-00003.png"), "{files:?}");
+
+    // The ray through the middle of the orbit view meets the fuselage.
+    send(&mut socket, &view(&model, 2, 35.0, false)).await;
+    next_frame(&mut socket).await;
+    send(&mut socket, &json!({"type": "shoot", "x": 60.0, "y": 45.0})).await;
+    let ray = next_json(&mut socket, "shoot").await;
+    let steps = ray["steps"].as_array().unwrap();
+    assert!(steps.iter().any(|s| s["entering"] == true));
+
+    send(&mut socket, &json!({"type": "check"})).await;
+    let check = next_json(&mut socket, "check").await;
+    assert!(check["rays"].as_u64().unwrap() > 0);
 }

@@ -45,15 +45,19 @@ async fn connect(url: &str, origin: Option<&str>) -> Result<Socket, String> {
         .map_err(|e| e.to_string())
 }
 
+/// The next message, within a minute.
+async fn next_message(socket: &mut Socket) -> Message {
+    tokio::time::timeout(Duration::from_secs(60), socket.next())
+        .await
+        .expect("a message within a minute")
+        .expect("the socket stays open")
+        .unwrap()
+}
+
 /// The next text message of type `kind` (frames and others skipped).
 async fn next_json(socket: &mut Socket, kind: &str) -> Value {
     loop {
-        let message = tokio::time::timeout(Duration::from_secs(60), socket.next())
-            .await
-            .expect("an answer within a minute")
-            .expect("the socket stays open")
-            .unwrap();
-        if let Message::Text(text) = message {
+        if let Message::Text(text) = next_message(socket).await {
             let value: Value = serde_json::from_str(&text).unwrap();
             if value["type"] == kind {
                 return value;
@@ -66,12 +70,7 @@ async fn next_json(socket: &mut Socket, kind: &str) -> Value {
 /// The next frame: its header and region ids.
 async fn next_frame(socket: &mut Socket) -> (FrameHeader, Vec<u32>) {
     loop {
-        let message = tokio::time::timeout(Duration::from_secs(60), socket.next())
-            .await
-            .expect("a frame within a minute")
-            .expect("the socket stays open")
-            .unwrap();
-        if let Message::Binary(bytes) = message {
+        if let Message::Binary(bytes) = next_message(socket).await {
             let (header, jpeg, ids) = unpack(&bytes).expect("a frame unpacks");
             assert_eq!(&jpeg[..2], &[0xff, 0xd8], "a JPEG");
             return (header, ids);

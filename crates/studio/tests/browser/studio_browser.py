@@ -90,6 +90,7 @@ def main():
 def run(driver, url, scene, artifacts):
     from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select
 
     js = driver.execute_script
     frames = lambda: int(js("return +(document.getElementById('view').dataset.frames || 0)"))
@@ -147,8 +148,11 @@ def run(driver, url, scene, artifacts):
     settled_after(count)
     wait_for("the transparent region's pixels", lambda: digest() != before, 10)
 
+    # A cut along y, the far half kept: the camera looks into the cut.
     count = frames()
+    Select(driver.find_element(By.ID, "cut-axis")).select_by_value("y")
     driver.find_element(By.ID, "cut-add").click()
+    driver.find_element(By.CSS_SELECTOR, "#cuts button[title='keep the other side']").click()
     settled_after(count)
     wait_for("the section view", lambda: js("return document.getElementById('section').naturalWidth > 0"))
     driver.save_screenshot(os.path.join(artifacts, "3-picked-transparent-cut.png"))

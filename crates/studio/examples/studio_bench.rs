@@ -2,12 +2,14 @@
 //! from a view sent to its picture received, measured from a WebSocket
 //! client as the page is one.
 //!
-//!     cargo run --release -p sv-studio --example studio_bench -- [FILE] [SECONDS]
+//!     cargo run --release -p sv-studio --example studio_bench -- [FILE|-] [SECONDS]
 //!
-//! Orbiting: a moving view every 16 ms (a display frame), the azimuth one
-//! degree further each time, for SECONDS (5); the server renders only the
-//! newest, coarse (320×240). Then single views, one at a time: coarse and
-//! full (960×720), the latency from sending to the frame received.
+//! `-` (or nothing) is the bundled helicopter. Orbiting: a moving view
+//! every 16 ms (a display frame), the azimuth one degree further each
+//! time, for SECONDS (5); the server renders only the newest, coarse
+//! (320×240). Then single views, one at a time: coarse and full (960×720),
+//! the latency from sending to the frame received, and the server's share
+//! (rendering, JPEG, packing).
 
 use futures_util::{SinkExt, StreamExt};
 use serde_json::{json, Value};
@@ -31,12 +33,12 @@ fn view(model: &Value, seq: u64, az: f64, moving: bool) -> Message {
     Message::Text(value.to_string().into())
 }
 
-/// The next frame's sequence number and kind.
-async fn next_frame(socket: &mut Socket) -> (u64, String) {
+/// The next frame's sequence number and the server's milliseconds on it.
+async fn next_frame(socket: &mut Socket) -> (u64, f64) {
     loop {
         if let Some(Ok(Message::Binary(bytes))) = socket.next().await {
             let (header, _, _) = unpack(&bytes).expect("a frame");
-            return (header.seq, header.kind);
+            return (header.seq, header.render_ms);
         }
     }
 }
@@ -58,7 +60,7 @@ fn summary(name: &str, mut ms: Vec<f64>) {
 #[tokio::main(flavor = "multi_thread", worker_threads = 2)]
 async fn main() {
     let mut args = std::env::args().skip(1);
-    let file = args.next().map(PathBuf::from);
+    let file = args.next().filter(|a| a != "-").map(PathBuf::from);
     let seconds: f64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(5.0);
     let studio = Studio::start(Options {
         file: file.clone(),
@@ -136,7 +138,7 @@ async fn main() {
     }
 
     for (name, moving) in [("coarse 320×240", true), ("full 960×720", false)] {
-        let mut times = Vec::new();
+        let (mut times, mut server_times) = (Vec::new(), Vec::new());
         for n in 0..10 {
             let seq = 10_000 + n + if moving { 0 } else { 100 };
             let sent = Instant::now();
@@ -145,12 +147,15 @@ async fn main() {
                 .await
                 .unwrap();
             loop {
-                if next_frame(&mut socket).await.0 == seq {
+                let (received, server_ms) = next_frame(&mut socket).await;
+                if received == seq {
+                    server_times.push(server_ms);
                     break;
                 }
             }
             times.push(sent.elapsed().as_secs_f64() * 1e3);
         }
         summary(&format!("single view, {name}, sent to received"), times);
+        summary(&format!("single view, {name}, rendered (server side)"), server_times);
     }
 }

@@ -156,6 +156,9 @@ async fn main() {
             times.push(sent.elapsed().as_secs_f64() * 1e3);
         }
         summary(&format!("single view, {name}, sent to received"), times);
-        summary(&format!("single view, {name}, rendered (server side)"), server_times);
+        summary(
+            &format!("single view, {name}, rendered (server side)"),
+            server_times,
+        );
     }
 }

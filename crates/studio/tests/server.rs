@@ -85,6 +85,23 @@ fn view(model: &Value, seq: u64, az: f64, moving: bool) -> Value {
     })
 }
 
+/// The region ids the renderer gives for `scene` at 120×90 through
+/// `camera` (the scene's own when `None`).
+fn region_ids(scene: &sv_scene::Scene, camera: Option<sv_scene::Camera>) -> Vec<u32> {
+    let mut renderer = Renderer::new(scene, 4.0 / 3.0).unwrap().0;
+    if let Some(camera) = camera {
+        renderer.camera = camera;
+    }
+    let settings = Settings {
+        width: 120,
+        height: 90,
+        shadows: false,
+        samples: 1,
+        aovs: true,
+    };
+    renderer.render(&settings, &|_| {}).region
+}
+
 async fn send(socket: &mut Socket, value: &Value) {
     socket
         .send(Message::Text(value.to_string().into()))
@@ -111,19 +128,7 @@ async fn a_frame_has_the_renderers_region_ids_and_picking_names_them() {
     let camera = request.camera().unwrap();
     assert_eq!(header.eye, camera.eye.to_array());
     let scene = studio.shared().current().0.scene.clone();
-    let renderer = Renderer::new(&scene, 4.0 / 3.0)
-        .unwrap()
-        .0
-        .with_camera(camera);
-    let settings = Settings {
-        width: 120,
-        height: 90,
-        shadows: false,
-        samples: 1,
-        aovs: true,
-    };
-    let expected = renderer.render(&settings, &|_| {});
-    assert_eq!(ids, expected.region);
+    assert_eq!(ids, region_ids(&scene, Some(camera)));
     let centre = ids[45 * 120 + 60];
     assert!(centre > 0, "the model fills the middle of the picture");
 
@@ -267,15 +272,7 @@ async fn film_frames_sections_rays_and_overlaps_are_answered() {
     let scene = film.scene_at(300);
     let camera = scene.camera.expect("the film has a camera");
     assert_eq!(header.eye, camera.eye.to_array());
-    let renderer = Renderer::new(&scene, 4.0 / 3.0).unwrap().0;
-    let settings = Settings {
-        width: 120,
-        height: 90,
-        shadows: false,
-        samples: 1,
-        aovs: true,
-    };
-    assert_eq!(ids, renderer.render(&settings, &|_| {}).region);
+    assert_eq!(ids, region_ids(&scene, None));
 
     // Film frames to files, under names the server makes.
     send(

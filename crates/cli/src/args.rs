@@ -59,6 +59,8 @@ pub enum Command {
     Completions(cmd::shell::CompletionsArgs),
     /// The manual page (roff) on stdout, or one per command into a folder.
     Man(cmd::shell::ManArgs),
+    /// Look into a model in a browser: turn it, pick, cut, x-ray (a local web page).
+    Studio(cmd::studio::StudioArgs),
 }
 
 #[derive(Args, Debug, Clone)]

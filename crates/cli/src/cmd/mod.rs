@@ -14,6 +14,7 @@ pub mod render;
 pub mod shell;
 pub mod shoot;
 pub mod slice;
+pub mod studio;
 pub mod volume;
 
 use crate::args::{Cli, Command};
@@ -41,6 +42,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Regions(args) => regions::regions(args),
         Command::Completions(args) => shell::completions(args),
         Command::Man(args) => shell::man(args),
+        Command::Studio(args) => studio::studio(args),
     }
 }
 

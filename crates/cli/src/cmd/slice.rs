@@ -86,6 +86,7 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
         plane,
         extent,
         size,
+        centre: None,
         tolerance: args.check.tolerance,
         strict_air: args.strict_air || input.strict_air(),
     };

@@ -48,7 +48,7 @@ mod slice;
 mod volume;
 
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
-pub use check::{check, CheckOptions};
+pub use check::{check, check_chunks, check_merge, check_part, CheckOptions, CheckPart};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 pub use legend::with_legend;
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};

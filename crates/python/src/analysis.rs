@@ -316,22 +316,107 @@ fn universe_choice(universe: Option<&Bound<'_, PyAny>>) -> PyResult<UniverseChoi
     }
 }
 
+/// The check's options from `Model.check`'s keyword arguments.
+fn check_options(
+    model: &Model,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(sv_check::CheckOptions, UniverseChoice)> {
+    let mut opts = sv_check::CheckOptions::default();
+    let mut universe = UniverseChoice::Auto;
+    let mut strict_air = model.strict_air();
+    for (key, value) in options.into_iter().flatten() {
+        let key: String = key.extract()?;
+        if value.is_none() && key != "universe" {
+            continue;
+        }
+        match key.as_str() {
+            "spacing" => {
+                let spacing: f64 = value.extract()?;
+                if !(spacing > 0.0 && spacing.is_finite()) {
+                    return Err(bad_input(format!("spacing must be positive, found {spacing}")));
+                }
+                opts.spacing = Some(spacing);
+            }
+            "random" => opts.random = value.extract()?,
+            "seed" => opts.seed = value.extract()?,
+            "tolerance" => opts.tolerance = Some(value.extract()?),
+            "strict_air" => strict_air |= value.extract::<bool>()?,
+            "box_" | "box" => {
+                let (lo, hi): ((f64, f64, f64), (f64, f64, f64)) = value.extract()?;
+                opts.bounds = Some(sv_math::Aabb::new(lo.into(), hi.into()));
+            }
+            "universe" => universe = universe_choice(Some(&value))?,
+            other => {
+                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                    "check: unexpected option `{other}`; use spacing, random, box_, seed, \
+                     strict_air, tolerance or universe"
+                )))
+            }
+        }
+    }
+    opts.strict_air = strict_air;
+    Ok((opts, universe))
+}
+
 /// `Model.check`: the report as the CLI's JSON, read back as a dict.
 pub fn check<'py>(
     py: Python<'py>,
     model: &Model,
-    opts: sv_check::CheckOptions,
-    universe: Option<&Bound<'py, PyAny>>,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let choice = universe_choice(universe)?;
-    if let Some(spacing) = opts.spacing {
-        if !(spacing > 0.0 && spacing.is_finite()) {
-            return Err(bad_input(format!("spacing must be positive, found {spacing}")));
-        }
-    }
+    let (opts, choice) = check_options(model, options)?;
     let json = without_gil(py, || {
         let check_model = check_model(model, choice)?;
         let report = sv_check::check(&check_model, &opts).map_err(bad_input)?;
+        Ok(report.to_json())
+    })?;
+    py.import("json")?.call_method1("loads", (json,))
+}
+
+/// `Model.check_chunks`.
+pub fn check_chunks(
+    py: Python<'_>,
+    model: &Model,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<u64> {
+    let (opts, choice) = check_options(model, options)?;
+    without_gil(py, || {
+        sv_check::check_chunks(&check_model(model, choice)?, &opts).map_err(bad_input)
+    })
+}
+
+/// `Model.check_part`: the share as JSON text.
+pub fn check_part(
+    py: Python<'_>,
+    model: &Model,
+    chunks: (u64, u64),
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<String> {
+    let (opts, choice) = check_options(model, options)?;
+    without_gil(py, || {
+        let check_model = check_model(model, choice)?;
+        let part =
+            sv_check::check_part(&check_model, &opts, chunks.0..chunks.1).map_err(bad_input)?;
+        serde_json::to_string(&part).map_err(runtime)
+    })
+}
+
+/// `Model.check_merge`: the report of the parts, as a dict.
+pub fn check_merge<'py>(
+    py: Python<'py>,
+    model: &Model,
+    parts: Vec<String>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (opts, choice) = check_options(model, options)?;
+    let json = without_gil(py, || {
+        let parts = parts
+            .iter()
+            .map(|text| serde_json::from_str::<sv_check::CheckPart>(text))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| bad_input(format!("not a part of a check: {e}")))?;
+        let check_model = check_model(model, choice)?;
+        let report = sv_check::check_merge(&check_model, &opts, &parts).map_err(bad_input)?;
         Ok(report.to_json())
     })?;
     py.import("json")?.call_method1("loads", (json,))

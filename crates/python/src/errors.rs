@@ -60,6 +60,22 @@ fn parse_error(py: Python<'_>, diagnostics: &Diagnostics, consequence: &str) -> 
     }
 }
 
+/// `ParseError` for input that reads but breaks a geometry rule (a
+/// negative radius): the CLI's message; the engine keeps no place in the
+/// file for a body, so `line` and `column` are None.
+pub fn geometry_error(py: Python<'_>, file: &str, message: impl std::fmt::Display) -> PyErr {
+    let error = ParseError::new_err(format!("error: {message}"));
+    let value = error.value(py);
+    let set: PyResult<()> = (|| {
+        value.setattr("file", file)?;
+        value.setattr("line", py.None())?;
+        value.setattr("column", py.None())?;
+        value.setattr("message", message.to_string())?;
+        value.setattr("diagnostics", Vec::<Py<PyAny>>::new())
+    })();
+    set.map(|()| error).unwrap_or_else(|failure| failure)
+}
+
 /// A bad option or argument.
 pub fn bad_input(message: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(message.to_string())

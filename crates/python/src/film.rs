@@ -10,7 +10,9 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use sv_formats::script::{load_script, load_source};
 use sv_formats::{LoadOptions, SourceFile};
-use sv_output::film::{content_hash, make_film, FilmOptions};
+use sv_output::film::{
+    content_hash, make_film, render_frames, FilmOptions, FilmReport, FrameResult, Mp4Status,
+};
 use sv_output::{to_rgb8, Encoding};
 use sv_render::{Renderer, Settings};
 
@@ -156,8 +158,10 @@ impl Film {
 
     /// Render frames into `out_dir` as the CLI's `film`: frames already
     /// there with the same hash are kept; the GIF, MP4 and contact sheet
-    /// are made once every frame is done. Returns what was done.
-    #[pyo3(signature = (out_dir, frames=None, size=None, shadows=true, srgb=false, gif=true, mp4=true))]
+    /// are made once every frame is done (unless `assemble` is False, as
+    /// for a share of the frames on a cluster). Returns what was done.
+    #[pyo3(signature = (out_dir, frames=None, size=None, shadows=true, srgb=false, gif=true,
+                        mp4=true, assemble=true))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -169,6 +173,7 @@ impl Film {
         srgb: bool,
         gif: bool,
         mp4: bool,
+        assemble: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let film = &self.film;
         let total = film.timeline.frame_count();
@@ -198,19 +203,27 @@ impl Film {
         } else {
             Encoding::Linear
         };
+        let render_frame = |number: usize| -> FrameResult {
+            let scene = film.scene_at(number);
+            let (renderer, _) = Renderer::new(&scene, width as f64 / height as f64)?;
+            let frame = renderer.render(&settings, &|_| {});
+            Ok(to_rgb8(width, height, &frame.rgb, encoding))
+        };
         let report = without_gil(py, || {
-            make_film(
-                total,
-                &opts,
-                |number| {
-                    let scene = film.scene_at(number);
-                    let (renderer, _) = Renderer::new(&scene, width as f64 / height as f64)?;
-                    let frame = renderer.render(&settings, &|_| {});
-                    Ok(to_rgb8(width, height, &frame.rgb, encoding))
-                },
-                |_, _| {},
-            )
-            .map_err(runtime)
+            if assemble {
+                make_film(total, &opts, render_frame, |_, _| {}).map_err(runtime)
+            } else {
+                let (rendered, reused) =
+                    render_frames(total, &opts, render_frame, |_, _| {}).map_err(runtime)?;
+                Ok(FilmReport {
+                    rendered,
+                    reused,
+                    missing: Vec::new(),
+                    gif: None,
+                    mp4: Mp4Status::NotMade,
+                    contact_sheet: None,
+                })
+            }
         })?;
         let result = PyDict::new(py);
         result.set_item("rendered", report.rendered)?;

@@ -2,7 +2,7 @@
 //! formats crate, its regions, and the pictures and numbers made of it.
 
 use crate::analysis;
-use crate::errors::{bad_input, load_error, without_gil};
+use crate::errors::{bad_input, geometry_error, load_error, without_gil};
 use crate::image::Image;
 use crate::view::{Camera, Light};
 use pyo3::prelude::*;
@@ -159,8 +159,13 @@ impl Model {
             format,
         } = loaded;
         scene.show_air_if_nothing_else();
-        let (check_model, _) =
-            sv_check::Model::new(&scene, &sv_check::UniverseChoice::None).map_err(bad_input)?;
+        let file = if origin.path_or_text.contains('\n') {
+            "<text>"
+        } else {
+            origin.path_or_text.as_str()
+        };
+        let (check_model, _) = sv_check::Model::new(&scene, &sv_check::UniverseChoice::None)
+            .map_err(|e| geometry_error(py, file, e))?;
         let (labels, material_names) = materials(&scene);
         let mut regions = Vec::new();
         for (index, (region, props)) in scene.geometry.regions.iter().zip(&scene.regions).enumerate()
@@ -437,31 +442,48 @@ impl Model {
         analysis::shoot(py, &self.scene, origin, direction)
     }
 
-    /// Overlaps and voids, as the CLI's `check --json`: a dict.
-    #[pyo3(signature = (spacing=None, random=0, box_=None, seed=1971, strict_air=None,
-                        tolerance=None, universe=None))]
-    #[allow(clippy::too_many_arguments)]
+    /// Overlaps and voids, as the CLI's `check --json`: a dict. Options:
+    /// `spacing`, `random` (0), `box_` ((x0, y0, z0), (x1, y1, z1)),
+    /// `seed` (1971), `strict_air`, `tolerance`, `universe` (None looks
+    /// for one, False uses none, a name names it).
+    #[pyo3(signature = (**options))]
     fn check<'py>(
         &self,
         py: Python<'py>,
-        spacing: Option<f64>,
-        random: u64,
-        box_: Option<Corners>,
-        seed: u64,
-        strict_air: Option<bool>,
-        tolerance: Option<f64>,
-        universe: Option<&Bound<'py, PyAny>>,
+        options: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let opts = sv_check::CheckOptions {
-            bounds: box_.map(|(lo, hi)| sv_math::Aabb::new(lo.into(), hi.into())),
-            spacing,
-            tolerance,
-            random,
-            seed,
-            strict_air: strict_air.unwrap_or(false) || self.strict_air(),
-            ..Default::default()
-        };
-        analysis::check(py, self, opts, universe)
+        analysis::check(py, self, options)
+    }
+
+    /// How many chunks of rays `check(**options)` fires (for splitting a
+    /// check across processes: `check_part`, `check_merge`).
+    #[pyo3(signature = (**options))]
+    fn check_chunks(&self, py: Python<'_>, options: Option<&Bound<'_, PyDict>>) -> PyResult<u64> {
+        analysis::check_chunks(py, self, options)
+    }
+
+    /// The findings of chunks `start..stop` of `check(**options)`, as JSON
+    /// text for `check_merge`.
+    #[pyo3(signature = (chunks, **options))]
+    fn check_part(
+        &self,
+        py: Python<'_>,
+        chunks: (u64, u64),
+        options: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<String> {
+        analysis::check_part(py, self, chunks, options)
+    }
+
+    /// The report of `check(**options)` from parts covering every chunk:
+    /// the same dict as `check` but for the time taken.
+    #[pyo3(signature = (parts, **options))]
+    fn check_merge<'py>(
+        &self,
+        py: Python<'py>,
+        parts: Vec<String>,
+        options: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        analysis::check_merge(py, self, parts, options)
     }
 
     /// Volume, centroid and mass of every region, as the CLI's `volume

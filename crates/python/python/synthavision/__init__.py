@@ -22,6 +22,7 @@ from ._native import (
     __version__,
     load,
 )
+from . import dask  # noqa: E402  (imports Dask itself only when used)
 
 __all__ = [
     "Camera",
@@ -33,5 +34,6 @@ __all__ = [
     "Region",
     "Section",
     "__version__",
+    "dask",
     "load",
 ]

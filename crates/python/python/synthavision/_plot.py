@@ -13,13 +13,22 @@ def plot(model, ax=None, **slice_args):
     if ax is None:
         _, ax = plt.subplots()
     width, height = section.extent
+    right, up = section.axes
+    # Coordinates along the plane's axes, so that a z= section shows x and y.
+    centre_u = sum(c * a for c, a in zip(section.centre, right))
+    centre_v = sum(c * a for c, a in zip(section.centre, up))
     ax.imshow(
         section.rgb,
-        extent=(-width / 2, width / 2, -height / 2, height / 2),
+        extent=(
+            centre_u - width / 2,
+            centre_u + width / 2,
+            centre_v - height / 2,
+            centre_v + height / 2,
+        ),
         interpolation="nearest",
     )
-    ax.set_xlabel(f"along {tuple(round(c, 6) for c in section.axes[0])} ({model.unit})")
-    ax.set_ylabel(f"along {tuple(round(c, 6) for c in section.axes[1])} ({model.unit})")
+    ax.set_xlabel(f"{_axis_name(right)} ({model.unit})")
+    ax.set_ylabel(f"{_axis_name(up)} ({model.unit})")
     entries = list(section.legend) + list(section.overlaps)
     if section.void is not None:
         entries.append(section.void)
@@ -27,3 +36,11 @@ def plot(model, ax=None, **slice_args):
     if handles:
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
     return ax
+
+
+def _axis_name(direction):
+    """"x", "y", "z" for a coordinate axis, else the direction."""
+    for name, axis in zip("xyz", ((1, 0, 0), (0, 1, 0), (0, 0, 1))):
+        if tuple(direction) == axis:
+            return name
+    return "along " + str(tuple(round(c, 6) for c in direction))

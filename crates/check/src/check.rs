@@ -169,6 +169,9 @@ fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)
 /// nor on how the chunks are shared out ([`check_part`]).
 const CHUNK: u64 = 256;
 
+/// One chunk's findings by kind, in order of kind.
+type ChunkFindings = Vec<(FindingKind, Acc)>;
+
 /// What a check fires: the box, the grid through it and the tolerance.
 struct Plan {
     checked_box: Aabb,
@@ -214,7 +217,7 @@ pub struct CheckPart {
     /// The chunks of rays fired (see [`check_chunks`]).
     pub chunks: Range<u64>,
     /// Per chunk, the findings by kind, in order of kind.
-    found: Vec<Vec<(FindingKind, Acc)>>,
+    found: Vec<ChunkFindings>,
     /// The regions any ray of the share met.
     seen: Vec<bool>,
 }
@@ -410,12 +413,12 @@ fn fire_rays(
     plan: &Plan,
     opts: &CheckOptions,
     chunks: Range<u64>,
-) -> (Vec<Vec<(FindingKind, Acc)>>, Vec<bool>) {
+) -> (Vec<ChunkFindings>, Vec<bool>) {
     let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
     let all_rays = grid_rays + opts.random;
     let region_count = model.names.len();
-    let fired: Vec<(Vec<(FindingKind, Acc)>, Vec<bool>)> = chunks
+    let fired: Vec<(ChunkFindings, Vec<bool>)> = chunks
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),

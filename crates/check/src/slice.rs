@@ -49,6 +49,20 @@ impl Plane {
         }
     }
 
+    /// The plane written `x=VALUE`, `y=VALUE` or `z=VALUE` (as `slice
+    /// --plane` takes it); `None` for anything else.
+    pub fn parse(text: &str) -> Option<Plane> {
+        let (axis, value) = text.split_once('=')?;
+        let axis = match axis.trim().to_ascii_lowercase().as_str() {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return None,
+        };
+        let value: f64 = value.trim().parse().ok()?;
+        value.is_finite().then(|| Plane::axis(axis, value))
+    }
+
     /// The plane through `origin` with normal `normal` (not zero). `v` is
     /// the projection of +z on the plane (of +y when the plane is
     /// horizontal); `u = v × normal`.

@@ -10,18 +10,16 @@ use pyo3::types::{PyBytes, PyDict};
 use std::path::PathBuf;
 use sv_check::{Plane, Slice, SliceOptions, UniverseChoice};
 use sv_math::Ray;
-use sv_output::{to_rgb8, write_image, Encoding, ImageFormat, Pixels, WriteOptions};
+use sv_output::{write_image, ImageFormat, Pixels, WriteOptions};
 use sv_scene::Scene;
 
 /// The index of the region `name`, or a `ValueError` with a suggestion.
 pub fn region_named(scene: &Scene, name: &str) -> PyResult<usize> {
     scene.geometry.region_index(name).ok_or_else(|| {
-        let hint = sv_formats::did_you_mean(
-            name,
-            scene.geometry.regions.iter().map(|r| r.name.as_str()),
-        )
-        .map(|s| format!("; did you mean `{s}`?"))
-        .unwrap_or_default();
+        let hint =
+            sv_formats::did_you_mean(name, scene.geometry.regions.iter().map(|r| r.name.as_str()))
+                .map(|s| format!("; did you mean `{s}`?"))
+                .unwrap_or_default();
         bad_input(format!("no region `{name}`{hint}"))
     })
 }
@@ -33,25 +31,11 @@ pub fn plane(
     normal: Option<(f64, f64, f64)>,
 ) -> PyResult<Plane> {
     match (axis_plane, origin, normal) {
-        (Some(text), None, None) => {
-            let bad = || {
-                bad_input(format!(
-                    "plane: expected \"x=VALUE\", \"y=VALUE\" or \"z=VALUE\", found \"{text}\""
-                ))
-            };
-            let (axis, value) = text.split_once('=').ok_or_else(bad)?;
-            let axis = match axis.trim().to_ascii_lowercase().as_str() {
-                "x" => 0,
-                "y" => 1,
-                "z" => 2,
-                _ => return Err(bad()),
-            };
-            let value: f64 = value.trim().parse().map_err(|_| bad())?;
-            if !value.is_finite() {
-                return Err(bad());
-            }
-            Ok(Plane::axis(axis, value))
-        }
+        (Some(text), None, None) => Plane::parse(text).ok_or_else(|| {
+            bad_input(format!(
+                "plane: expected \"x=VALUE\", \"y=VALUE\" or \"z=VALUE\", found \"{text}\""
+            ))
+        }),
         (None, Some(origin), Some(normal)) => {
             let origin = crate::view::vec3(origin, "origin")?;
             let normal = crate::view::vec3(normal, "normal")?;
@@ -247,15 +231,7 @@ impl Section {
 
     /// Jupyter's inline picture.
     fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let picture = to_rgb8(self.width, self.height, &self.colours, Encoding::Linear);
-        let mut bytes = Vec::new();
-        picture
-            .write_to(
-                &mut std::io::Cursor::new(&mut bytes),
-                image::ImageFormat::Png,
-            )
-            .map_err(runtime)?;
-        Ok(PyBytes::new(py, &bytes))
+        crate::image::png_bytes(py, self.width, self.height, &self.colours)
     }
 }
 
@@ -288,7 +264,11 @@ pub fn shoot<'py>(
         crossing.set_item("event", if step.entering { "enters" } else { "leaves" })?;
         crossing.set_item("body", &body.name)?;
         crossing.set_item("type", body.kind.name())?;
-        let after: Vec<String> = step.regions_after.iter().map(|r| name(*r as usize)).collect();
+        let after: Vec<String> = step
+            .regions_after
+            .iter()
+            .map(|r| name(*r as usize))
+            .collect();
         crossing.set_item("overlap", after.len() > 1)?;
         crossing.set_item("regions_after", after)?;
         crossings.append(crossing)?;
@@ -333,7 +313,9 @@ fn check_options(
             "spacing" => {
                 let spacing: f64 = value.extract()?;
                 if !(spacing > 0.0 && spacing.is_finite()) {
-                    return Err(bad_input(format!("spacing must be positive, found {spacing}")));
+                    return Err(bad_input(format!(
+                        "spacing must be positive, found {spacing}"
+                    )));
                 }
                 opts.spacing = Some(spacing);
             }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use sv_formats::script::{load_script, load_source};
 use sv_formats::{LoadOptions, SourceFile};
 use sv_output::film::{
-    content_hash, make_film, render_frames, FilmOptions, FilmReport, FrameResult, Mp4Status,
+    frames_hash, make_film, render_frames, FilmOptions, FilmReport, FrameResult, Mp4Status,
 };
 use sv_output::{to_rgb8, Encoding};
 use sv_render::{Renderer, Settings};
@@ -126,7 +126,11 @@ impl Film {
     /// Warnings met while reading the scenes.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.film.warnings.iter().map(|w| w.message.clone()).collect()
+        self.film
+            .warnings
+            .iter()
+            .map(|w| w.message.clone())
+            .collect()
     }
 
     /// Frame `index` rendered as the CLI's `film` renders it.
@@ -179,13 +183,7 @@ impl Film {
         let total = film.timeline.frame_count();
         let range = frame_range(frames, total)?;
         let (width, height) = self.size(size)?;
-        // The CLI's key of the frames on disk: everything besides the
-        // script that decides the pictures (crates/cli/src/cmd/film.rs).
-        let key = format!(
-            "{width}x{height} shadows={shadows} srgb={srgb} v{}",
-            env!("CARGO_PKG_VERSION")
-        );
-        let hash = content_hash(&[film.fingerprint().as_bytes(), key.as_bytes()]);
+        let hash = frames_hash(&film.fingerprint(), width, height, shadows, srgb);
         let mut opts = FilmOptions::new(&out_dir, hash);
         opts.frames = range;
         opts.fps = film.timeline.fps();

@@ -46,11 +46,7 @@ impl Image {
         let (rows, columns) = (height as usize, width as usize);
         let plane = [rows, columns];
         let colour = [rows, columns, 3];
-        let region: Vec<i32> = frame
-            .region
-            .into_iter()
-            .map(|id| id as i32 - 1)
-            .collect();
+        let region: Vec<i32> = frame.region.into_iter().map(|id| id as i32 - 1).collect();
         Ok(Image {
             rgb: PyArray1::from_vec(py, frame.rgb.into_flattened())
                 .reshape(colour)?
@@ -78,6 +74,24 @@ impl Image {
             .collect();
         Ok((rgb, alpha.as_slice().map_err(bad_input)?.to_vec()))
     }
+}
+
+/// 8-bit PNG bytes of linear colours, for Jupyter.
+pub fn png_bytes<'py>(
+    py: Python<'py>,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+) -> PyResult<Bound<'py, PyBytes>> {
+    let picture = to_rgb8(width, height, rgb, Encoding::Linear);
+    let mut bytes = Vec::new();
+    picture
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .map_err(runtime)?;
+    Ok(PyBytes::new(py, &bytes))
 }
 
 #[pymethods]
@@ -123,15 +137,7 @@ impl Image {
     /// The picture as PNG bytes (8-bit, linear values as the CLI writes).
     fn png<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let (rgb, _) = self.pixels(py)?;
-        let picture = to_rgb8(self.width, self.height, &rgb, Encoding::Linear);
-        let mut bytes = Vec::new();
-        picture
-            .write_to(
-                &mut std::io::Cursor::new(&mut bytes),
-                image::ImageFormat::Png,
-            )
-            .map_err(runtime)?;
-        Ok(PyBytes::new(py, &bytes))
+        png_bytes(py, self.width, self.height, &rgb)
     }
 
     /// Jupyter's inline picture.

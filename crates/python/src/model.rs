@@ -12,6 +12,9 @@ use sv_formats::{Format, LoadOptions, Loaded, SourceFile};
 use sv_render::{default_camera, default_lights, Renderer, Settings, UpAxis, ViewSpec};
 use sv_scene::Scene;
 
+/// A box as its lower and upper corners.
+pub type Corners = ((f64, f64, f64), (f64, f64, f64));
+
 /// One region: its name, description, material and bounds.
 #[pyclass(frozen, module = "synthavision", get_all)]
 pub struct Region {
@@ -32,7 +35,7 @@ pub struct Region {
     pub outside: bool,
     /// `(lower_left, upper_right)` of the region, clipped to the model's
     /// box; `None` when empty.
-    pub bounds: Option<((f64, f64, f64), (f64, f64, f64))>,
+    pub bounds: Option<Corners>,
 }
 
 #[pymethods]
@@ -64,7 +67,7 @@ pub struct Model {
     origin: Origin,
     regions: Vec<Py<Region>>,
     materials: Vec<String>,
-    bounds: Option<((f64, f64, f64), (f64, f64, f64))>,
+    bounds: Option<Corners>,
     warnings: Vec<String>,
 }
 
@@ -86,16 +89,12 @@ fn format_named(name: &str) -> PyResult<Format> {
 
 /// `deck_version=`: v1, v4 or v5.
 fn deck_version(text: Option<&str>) -> PyResult<Option<sv_formats::DeckVersion>> {
-    use sv_formats::DeckVersion;
-    match text.map(str::to_ascii_lowercase).as_deref() {
-        None => Ok(None),
-        Some("v1" | "1") => Ok(Some(DeckVersion::V1)),
-        Some("v4" | "4") => Ok(Some(DeckVersion::V4)),
-        Some("v5" | "5") => Ok(Some(DeckVersion::V5)),
-        Some(other) => Err(bad_input(format!(
-            "unknown deck version `{other}`; use v1, v4 or v5"
-        ))),
-    }
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    sv_formats::DeckVersion::named(text)
+        .map(Some)
+        .ok_or_else(|| bad_input(format!("unknown deck version `{text}`; use v1, v4 or v5")))
 }
 
 /// Read `path_or_text`: text when it holds a line break, else a path.
@@ -113,7 +112,8 @@ fn read(origin: &Origin) -> Result<Loaded, sv_formats::LoadError> {
                 path: path.to_owned(),
                 source,
             })?;
-            let source = SourceFile::new(path.display().to_string(), String::from_utf8_lossy(&text));
+            let source =
+                SourceFile::new(path.display().to_string(), String::from_utf8_lossy(&text));
             sv_formats::load_source(&source, format, &opts)
         }
         (false, Some(_)) => sv_formats::load_file(path, &opts),
@@ -132,9 +132,10 @@ fn materials(scene: &Scene) -> (Vec<Option<String>>, Vec<String>) {
         .regions
         .iter()
         .map(|props| {
-            let label = props.material_name.clone().or_else(|| {
-                (props.material != 0).then(|| props.material.to_string())
-            })?;
+            let label = props
+                .material_name
+                .clone()
+                .or_else(|| (props.material != 0).then(|| props.material.to_string()))?;
             if !names.contains(&label) {
                 names.push(label.clone());
             }
@@ -143,8 +144,6 @@ fn materials(scene: &Scene) -> (Vec<Option<String>>, Vec<String>) {
         .collect();
     (labels, names)
 }
-
-type Corners = ((f64, f64, f64), (f64, f64, f64));
 
 /// A box as two corners, `None` when empty or infinite.
 fn corners(bounds: sv_math::Aabb) -> Option<Corners> {
@@ -168,7 +167,12 @@ impl Model {
             .map_err(|e| geometry_error(py, file, e))?;
         let (labels, material_names) = materials(&scene);
         let mut regions = Vec::new();
-        for (index, (region, props)) in scene.geometry.regions.iter().zip(&scene.regions).enumerate()
+        for (index, (region, props)) in scene
+            .geometry
+            .regions
+            .iter()
+            .zip(&scene.regions)
+            .enumerate()
         {
             let material = labels[index].clone();
             let material_index = material

@@ -145,7 +145,9 @@ impl Light {
     ) -> PyResult<Light> {
         let pos = vec3(position, "position")?;
         if !(decay >= 0.0 && decay.is_finite()) {
-            return Err(bad_input(format!("decay must be zero or more, found {decay}")));
+            return Err(bad_input(format!(
+                "decay must be zero or more, found {decay}"
+            )));
         }
         light(LightKind::Point { pos, decay }, intensity, colour)
     }

@@ -12,7 +12,8 @@ use sv_render::Frame;
 /// A rendered picture. `rgb` (float32, H×W×3, linear), `alpha` (H×W, the
 /// share of each pixel covered), `region` (int32 H×W, the region index
 /// at the pixel's centre, −1 for background), `depth` (float32, inf for
-/// background) and `normal` (float32 H×W×3). Shown inline in Jupyter.
+/// background) and `normal` (float32 H×W×3); the last three are None
+/// when rendered with `aovs=False`. Shown inline in Jupyter.
 #[pyclass(frozen, module = "synthavision")]
 pub struct Image {
     /// Linear colour.
@@ -23,13 +24,13 @@ pub struct Image {
     alpha: Py<PyArray2<f32>>,
     /// Region index, −1 for background.
     #[pyo3(get)]
-    region: Py<PyArray2<i32>>,
+    region: Option<Py<PyArray2<i32>>>,
     /// Distance from the eye.
     #[pyo3(get)]
-    depth: Py<PyArray2<f32>>,
+    depth: Option<Py<PyArray2<f32>>>,
     /// World-space unit normal.
     #[pyo3(get)]
-    normal: Py<PyArray3<f32>>,
+    normal: Option<Py<PyArray3<f32>>>,
     /// Width in pixels.
     #[pyo3(get)]
     width: u32,
@@ -39,24 +40,33 @@ pub struct Image {
 }
 
 impl Image {
-    /// The arrays of a frame rendered with auxiliary images; the buffers
-    /// move into numpy (the region ids are rewritten in place).
+    /// The arrays of a frame; the buffers move into numpy (the region ids
+    /// are rewritten in place). A frame without auxiliary images has
+    /// None for them.
     pub fn from_frame(py: Python<'_>, frame: Frame) -> PyResult<Image> {
         let (width, height) = (frame.width, frame.height);
         let (rows, columns) = (height as usize, width as usize);
         let plane = [rows, columns];
         let colour = [rows, columns, 3];
-        let region: Vec<i32> = frame.region.into_iter().map(|id| id as i32 - 1).collect();
+        let (region, depth, normal) = if frame.region.is_empty() {
+            (None, None, None)
+        } else {
+            let region: Vec<i32> = frame.region.into_iter().map(|id| id as i32 - 1).collect();
+            let normal = frame.normal.into_flattened();
+            (
+                Some(PyArray1::from_vec(py, region).reshape(plane)?.unbind()),
+                Some(PyArray1::from_vec(py, frame.depth).reshape(plane)?.unbind()),
+                Some(PyArray1::from_vec(py, normal).reshape(colour)?.unbind()),
+            )
+        };
         Ok(Image {
             rgb: PyArray1::from_vec(py, frame.rgb.into_flattened())
                 .reshape(colour)?
                 .unbind(),
             alpha: PyArray1::from_vec(py, frame.alpha).reshape(plane)?.unbind(),
-            region: PyArray1::from_vec(py, region).reshape(plane)?.unbind(),
-            depth: PyArray1::from_vec(py, frame.depth).reshape(plane)?.unbind(),
-            normal: PyArray1::from_vec(py, frame.normal.into_flattened())
-                .reshape(colour)?
-                .unbind(),
+            region,
+            depth,
+            normal,
             width,
             height,
         })

@@ -325,9 +325,10 @@ impl Model {
     /// cores with the GIL released. `camera` (default: the scene's, or a
     /// view from `az`/`el` degrees), `size=(w, h)`, `lights` (default: the
     /// scene's), `transparent` region names, `color_by` "region" or
-    /// "material" (default: the scene's colours), `samples` per side.
+    /// "material" (default: the scene's colours), `samples` per side;
+    /// `aovs=False` leaves the region, depth and normal images out.
     #[pyo3(signature = (camera=None, size=None, lights=None, shadows=None, transparent=None,
-                        color_by=None, samples=1, az=None, el=None))]
+                        color_by=None, samples=1, az=None, el=None, aovs=true))]
     #[allow(clippy::too_many_arguments)]
     fn render(
         &self,
@@ -341,6 +342,7 @@ impl Model {
         samples: u32,
         az: Option<f64>,
         el: Option<f64>,
+        aovs: bool,
     ) -> PyResult<Image> {
         let scene = self.scene_for(&transparent.unwrap_or_default(), color_by.as_deref())?;
         let (width, height) = size.or(scene.size).unwrap_or((960, 720));
@@ -363,7 +365,7 @@ impl Model {
             height,
             shadows: shadows.unwrap_or(scene.shadows),
             samples,
-            aovs: true,
+            aovs,
         };
         let frame = without_gil(py, || {
             let renderer = view.renderer(&scene, width as f64 / height as f64)?;

@@ -73,6 +73,8 @@ def test_transparent_lights_and_colours(helicopter):
         helicopter.render(size=(8, 6), transparent=["fuselag"])
     lit = helicopter.render(size=(80, 60), lights=[sv.Light.parallel((0, 0, -1), 0.5)])
     assert not np.array_equal(lit.rgb, plain.rgb)
+    bare = helicopter.render(size=(80, 60), aovs=False)
+    assert np.array_equal(bare.rgb, plain.rgb) and bare.region is None
     by_region = helicopter.render(size=(80, 60), color_by="region")
     assert np.array_equal(by_region.region, plain.region)
     assert not np.array_equal(by_region.rgb, plain.rgb)

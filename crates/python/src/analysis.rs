@@ -76,17 +76,8 @@ fn region_ids(section: &Slice) -> Vec<i32> {
         .collect()
 }
 
-/// `Model.id_map`.
-pub fn id_map<'py>(
-    py: Python<'py>,
-    model: &Model,
-    origin: (f64, f64, f64),
-    width: (f64, f64),
-    pixels: (u32, u32),
-    basis: &str,
-    strict_air: Option<bool>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let centre = crate::view::vec3(origin, "origin")?;
+/// The plane of OpenMC's `basis` ("xy", "xz" or "yz") through `centre`.
+pub fn basis_plane(centre: sv_math::DVec3, basis: &str) -> PyResult<Plane> {
     let axis = match basis.to_ascii_lowercase().as_str() {
         "xy" => 2,
         "xz" => 1,
@@ -97,17 +88,18 @@ pub fn id_map<'py>(
             )))
         }
     };
-    let opts = SliceOptions {
-        plane: Plane::axis(axis, centre[axis]),
-        extent: Some(width),
-        size: Some(pixels),
-        centre: Some(centre),
-        tolerance: None,
-        strict_air: strict_air.unwrap_or(false) || model.strict_air(),
-    };
+    Ok(Plane::axis(axis, centre[axis]))
+}
+
+/// `Model.id_map`: region and material index per pixel of the section.
+pub fn id_map<'py>(
+    py: Python<'py>,
+    model: &Model,
+    opts: &SliceOptions,
+) -> PyResult<Bound<'py, PyAny>> {
     let materials = model.material_indices(py);
-    let ids = without_gil(py, || {
-        let section = cut(model, &opts, UniverseChoice::Auto)?;
+    let (ids, columns, rows) = without_gil(py, || {
+        let section = cut(model, opts, UniverseChoice::Auto)?;
         let regions = region_ids(&section);
         let mut both = Vec::with_capacity(regions.len() * 2);
         for region in regions {
@@ -117,9 +109,9 @@ pub fn id_map<'py>(
             };
             both.extend([region, material]);
         }
-        Ok(both)
+        Ok((both, section.width, section.height))
     })?;
-    let shape = [pixels.1 as usize, pixels.0 as usize, 2];
+    let shape = [rows as usize, columns as usize, 2];
     Ok(PyArray1::from_vec(py, ids).reshape(shape)?.into_any())
 }
 

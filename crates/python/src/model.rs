@@ -388,7 +388,16 @@ impl Model {
         basis: &str,
         strict_air: Option<bool>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        analysis::id_map(py, self, origin, width, pixels, basis, strict_air)
+        let centre = crate::view::vec3(origin, "origin")?;
+        let opts = sv_check::SliceOptions {
+            plane: analysis::basis_plane(centre, basis)?,
+            extent: Some(width),
+            size: Some(pixels),
+            centre: Some(centre),
+            tolerance: None,
+            strict_air: strict_air.unwrap_or(false) || self.strict_air(),
+        };
+        analysis::id_map(py, self, &opts)
     }
 
     /// A section view with its legend, as the CLI's `slice`: `plane`

@@ -5,7 +5,9 @@ use sv_math::Ray;
 use sv_trace::{Partition, Scratch};
 
 /// What kind of problem a stretch of ray is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub enum FindingKind {
     /// Two regions (lower index first) both claim the stretch.
     Overlap(u32, u32),

@@ -5,7 +5,9 @@ use crate::model::{CheckError, Model};
 use crate::report::{fmt_g, Outside, Overlap, Problem, Report, UniverseInfo, Void};
 use crate::rng::uniform;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
+use std::ops::Range;
 use std::time::Instant;
 use sv_math::{Aabb, DVec3, Ray};
 
@@ -57,7 +59,8 @@ impl Default for CheckOptions {
     }
 }
 
-#[derive(Clone, Copy, Debug)]
+/// The summed stretches of one kind of finding.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 struct Acc {
     total: f64,
     weighted: f64,
@@ -161,35 +164,166 @@ fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)
     bx.ray_range(&ray).map(|(a, b)| (ray, a.max(0.0), b))
 }
 
+/// Rays are fired in chunks of this many; the chunks' findings are summed
+/// in chunk order, so the sums depend neither on the number of threads
+/// nor on how the chunks are shared out ([`check_part`]).
+const CHUNK: u64 = 256;
+
+/// One chunk's findings by kind, in order of kind.
+type ChunkFindings = Vec<(FindingKind, Acc)>;
+
+/// What a check fires: the box, the grid through it and the tolerance.
+struct Plan {
+    checked_box: Aabb,
+    spacing: f64,
+    tolerance: f64,
+    grid: Grid,
+}
+
+impl Plan {
+    fn new(model: &Model, opts: &CheckOptions) -> Result<Plan, CheckError> {
+        let checked_box = checked_box(model, opts)?;
+        let spacing = grid_spacing(checked_box.size(), opts)?;
+        let tolerance = match opts.tolerance {
+            Some(t) if t >= 0.0 && t.is_finite() => t,
+            Some(t) => {
+                return Err(CheckError::Option(format!(
+                    "the tolerance must be zero or more, found {t}"
+                )))
+            }
+            // 1e-5 of the diagonal of the box checked.
+            None => (1e-5 * checked_box.size().length()).max(1e-12),
+        };
+        check_ray_counts(checked_box.size(), spacing, opts)?;
+        let grid = Grid::new(checked_box.min, checked_box.max, spacing);
+        Ok(Plan {
+            checked_box,
+            spacing,
+            tolerance,
+            grid,
+        })
+    }
+
+    fn chunk_count(&self, opts: &CheckOptions) -> u64 {
+        (self.grid.total() + opts.random).div_ceil(CHUNK)
+    }
+}
+
+/// The findings of a share of a check's rays, chunk by chunk, to be
+/// summed with the other shares by [`check_merge`]: a check split across
+/// processes or machines. Serialisable, so shares travel as JSON.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CheckPart {
+    /// The chunks of rays fired (see [`check_chunks`]).
+    pub chunks: Range<u64>,
+    /// Per chunk, the findings by kind, in order of kind.
+    found: Vec<ChunkFindings>,
+    /// The regions any ray of the share met.
+    seen: Vec<bool>,
+}
+
+/// How many chunks of rays a check with `opts` fires: [`check_part`]
+/// takes a range of them.
+pub fn check_chunks(model: &Model, opts: &CheckOptions) -> Result<u64, CheckError> {
+    Ok(Plan::new(model, opts)?.chunk_count(opts))
+}
+
+/// Fire the chunks `chunks` of the rays of a check with `opts` (on the
+/// current rayon pool).
+pub fn check_part(
+    model: &Model,
+    opts: &CheckOptions,
+    chunks: Range<u64>,
+) -> Result<CheckPart, CheckError> {
+    let plan = Plan::new(model, opts)?;
+    let chunks = chunks.start.min(plan.chunk_count(opts))..chunks.end.min(plan.chunk_count(opts));
+    let (found, seen) = fire_rays(model, &plan, opts, chunks.clone());
+    Ok(CheckPart {
+        chunks,
+        found,
+        seen,
+    })
+}
+
+/// The report of a check whose rays were fired in `parts` (any order;
+/// together they must hold every chunk once): the same report, to the
+/// bit, as [`check`] makes (but for the time taken).
+pub fn check_merge(
+    model: &Model,
+    opts: &CheckOptions,
+    parts: &[CheckPart],
+) -> Result<Report, CheckError> {
+    let start = Instant::now();
+    let plan = Plan::new(model, opts)?;
+    let mut ordered: Vec<&CheckPart> = parts.iter().collect();
+    ordered.sort_by_key(|part| part.chunks.start);
+    let mut next = 0;
+    for part in &ordered {
+        let consistent = part.found.len() as u64 == part.chunks.end - part.chunks.start
+            && part.seen.len() == model.names.len();
+        if part.chunks.start != next || !consistent {
+            return Err(CheckError::Option(format!(
+                "the parts of the check do not cover its chunks once each: chunk {next} is missing or repeated"
+            )));
+        }
+        next = part.chunks.end;
+    }
+    if next != plan.chunk_count(opts) {
+        return Err(CheckError::Option(format!(
+            "the parts of the check end at chunk {next} of {}",
+            plan.chunk_count(opts)
+        )));
+    }
+    Ok(report(model, opts, &plan, &ordered, start))
+}
+
 /// Fire the grids (and random rays) through `model` and gather every
 /// overlap, void and stretch outside the universe. Runs on the current
 /// rayon pool.
 pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let start = Instant::now();
-    let checked_box = checked_box(model, opts)?;
-    let spacing = grid_spacing(checked_box.size(), opts)?;
-    let tolerance = match opts.tolerance {
-        Some(t) if t >= 0.0 && t.is_finite() => t,
-        Some(t) => {
-            return Err(CheckError::Option(format!(
-                "the tolerance must be zero or more, found {t}"
-            )))
-        }
-        // 1e-5 of the diagonal of the box checked.
-        None => (1e-5 * checked_box.size().length()).max(1e-12),
+    let plan = Plan::new(model, opts)?;
+    let chunks = 0..plan.chunk_count(opts);
+    let (found, seen) = fire_rays(model, &plan, opts, chunks.clone());
+    let part = CheckPart {
+        chunks,
+        found,
+        seen,
     };
-    check_ray_counts(checked_box.size(), spacing, opts)?;
-    let grid = Grid::new(checked_box.min, checked_box.max, spacing);
-    let (findings, seen) = fire_rays(model, &grid, &checked_box, opts, tolerance);
+    Ok(report(model, opts, &plan, &[&part], start))
+}
+
+/// The report of the chunks of `parts`, summed in chunk order.
+fn report(
+    model: &Model,
+    opts: &CheckOptions,
+    plan: &Plan,
+    parts: &[&CheckPart],
+    start: Instant,
+) -> Report {
+    let mut findings: HashMap<FindingKind, Acc> = HashMap::new();
+    let mut seen = vec![false; model.names.len()];
+    for part in parts {
+        for (any, this) in seen.iter_mut().zip(&part.seen) {
+            *any |= this;
+        }
+        for (kind, acc) in part.found.iter().flatten() {
+            findings
+                .entry(*kind)
+                .and_modify(|sum| sum.merge(acc))
+                .or_insert(*acc);
+        }
+    }
     let sorted = sort_findings(model, findings, opts.strict_air);
-    Ok(Report {
+    let checked_box = plan.checked_box;
+    Report {
         unit: model.unit.clone(),
         regions: model.names.len(),
         bounds: [checked_box.min.to_array(), checked_box.max.to_array()],
-        spacing,
-        grid_rays: grid.total(),
+        spacing: plan.spacing,
+        grid_rays: plan.grid.total(),
         random_rays: opts.random,
-        tolerance,
+        tolerance: plan.tolerance,
         universe: model
             .universe_note
             .clone()
@@ -220,7 +354,7 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
             .map(|region| model.names[region].clone())
             .collect(),
         seconds: start.elapsed().as_secs_f64(),
-    })
+    }
 }
 
 /// The box the rays cross: the one asked for, or the model's bounds.
@@ -287,22 +421,20 @@ fn check_ray_counts(size: DVec3, spacing: f64, opts: &CheckOptions) -> Result<()
     Ok(())
 }
 
-/// Fire the grid and the random rays in chunks on the rayon pool: every
-/// kind of finding with its stretches summed, and which regions any ray
-/// met. Chunks are merged in order, so the sums do not depend on the
-/// number of threads.
+/// Fire the chunks `chunks` of the grid and random rays on the rayon
+/// pool: per chunk, every kind of finding with its stretches summed (in
+/// order of kind), and which regions any ray met.
 fn fire_rays(
     model: &Model,
-    grid: &Grid,
-    checked_box: &Aabb,
+    plan: &Plan,
     opts: &CheckOptions,
-    tolerance: f64,
-) -> (HashMap<FindingKind, Acc>, Vec<bool>) {
-    const CHUNK: u64 = 256;
+    chunks: Range<u64>,
+) -> (Vec<ChunkFindings>, Vec<bool>) {
+    let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
     let all_rays = grid_rays + opts.random;
     let region_count = model.names.len();
-    let chunks: Vec<(HashMap<FindingKind, Acc>, Vec<bool>)> = (0..all_rays.div_ceil(CHUNK))
+    let fired: Vec<(ChunkFindings, Vec<bool>)> = chunks
         .into_par_iter()
         .map_init(
             || RayCheck::new(model),
@@ -341,25 +473,21 @@ fn fire_rays(
                             .or_insert(stretch);
                     }
                 }
-                (found, seen)
+                let mut entries: Vec<_> = found.into_iter().collect();
+                entries.sort_by_key(|entry| entry.0);
+                (entries, seen)
             },
         )
         .collect();
-    let mut all: HashMap<FindingKind, Acc> = HashMap::new();
     let mut seen = vec![false; region_count];
-    for (found, chunk_seen) in chunks {
+    let mut found = Vec::with_capacity(fired.len());
+    for (entries, chunk_seen) in fired {
         for (any, this) in seen.iter_mut().zip(chunk_seen) {
             *any |= this;
         }
-        let mut entries: Vec<_> = found.into_iter().collect();
-        entries.sort_by_key(|entry| entry.0);
-        for (kind, acc) in entries {
-            all.entry(kind)
-                .and_modify(|sum| sum.merge(&acc))
-                .or_insert(acc);
-        }
+        found.push(entries);
     }
-    (all, seen)
+    (found, seen)
 }
 
 /// The findings of a check, by kind, each list largest first.

@@ -50,7 +50,7 @@ mod volume;
 
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use axes::with_axes;
-pub use check::{check, CheckOptions};
+pub use check::{check, check_chunks, check_merge, check_part, CheckOptions, CheckPart};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 pub use legend::{legend_entries, with_legend, with_legend_entries, Swatch};
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};

@@ -49,6 +49,20 @@ impl Plane {
         }
     }
 
+    /// The plane written `x=VALUE`, `y=VALUE` or `z=VALUE` (as `slice
+    /// --plane` takes it); `None` for anything else.
+    pub fn parse(text: &str) -> Option<Plane> {
+        let (axis, value) = text.split_once('=')?;
+        let axis = match axis.trim().to_ascii_lowercase().as_str() {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return None,
+        };
+        let value: f64 = value.trim().parse().ok()?;
+        value.is_finite().then(|| Plane::axis(axis, value))
+    }
+
     /// The plane through `origin` with normal `normal` (not zero). `v` is
     /// the projection of +z on the plane (of +y when the plane is
     /// horizontal); `u = v × normal`.
@@ -84,6 +98,9 @@ pub struct SliceOptions {
     pub extent: Option<(f64, f64)>,
     /// Raster size; default: 800 pixels on the long side of the extent.
     pub size: Option<(u32, u32)>,
+    /// The point of the plane at the picture's centre (projected on the
+    /// plane); default: the centre of the model's bounds projected on it.
+    pub centre: Option<DVec3>,
     /// Overlap and void tolerance; default [`default_tolerance`].
     pub tolerance: Option<f64>,
     /// Draw overlaps with air regions as overlaps too. By default the
@@ -288,8 +305,16 @@ fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
         }
         _ => (extent_w, extent_h),
     };
+    let centre = match opts.centre {
+        Some(point) if point.is_finite() => {
+            let offset = point - opts.plane.origin;
+            (offset.dot(opts.plane.u), offset.dot(opts.plane.v))
+        }
+        Some(_) => return Err(CheckError::Option("the centre must be finite".into())),
+        None => (0.5 * (umin + umax), 0.5 * (vmin + vmax)),
+    };
     Ok(View {
-        centre: (0.5 * (umin + umax), 0.5 * (vmin + vmax)),
+        centre,
         extent,
         width,
         height,

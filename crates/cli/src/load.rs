@@ -110,15 +110,15 @@ fn finish(
 
 /// `--deck-version`.
 fn deck_version(text: Option<&str>) -> Result<Option<DeckVersion>, CliError> {
-    match text.map(str::to_ascii_lowercase).as_deref() {
-        None => Ok(None),
-        Some("v1" | "1") => Ok(Some(DeckVersion::V1)),
-        Some("v4" | "4") => Ok(Some(DeckVersion::V4)),
-        Some("v5" | "5") => Ok(Some(DeckVersion::V5)),
-        Some(other) => Err(bad_input(format!(
-            "unknown deck version `{other}`; use v1, v4 or v5"
-        ))),
-    }
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    DeckVersion::named(text).map(Some).ok_or_else(|| {
+        bad_input(format!(
+            "unknown deck version `{}`; use v1, v4 or v5",
+            text.to_ascii_lowercase()
+        ))
+    })
 }
 
 /// Air regions are shown with `--show-air`, and when nothing else is.

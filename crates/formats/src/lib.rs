@@ -46,6 +46,18 @@ pub enum DeckVersion {
     V5,
 }
 
+impl DeckVersion {
+    /// The layout named `v1`, `v4` or `v5` (or `1`, `4`, `5`; any case).
+    pub fn named(text: &str) -> Option<DeckVersion> {
+        match text.to_ascii_lowercase().as_str() {
+            "v1" | "1" => Some(DeckVersion::V1),
+            "v4" | "4" => Some(DeckVersion::V4),
+            "v5" | "5" => Some(DeckVersion::V5),
+            _ => None,
+        }
+    }
+}
+
 /// Options for reading.
 #[derive(Clone, Debug, Default)]
 pub struct LoadOptions {

@@ -195,6 +195,24 @@ pub fn content_hash(parts: &[&[u8]]) -> String {
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// The key of a film's frames on disk: its timeline's `fingerprint` and
+/// everything else that decides the pictures (size, shadows, encoding,
+/// the program's version). The CLI's `film` and the Python package key
+/// frames alike, so either resumes what the other began.
+pub fn frames_hash(
+    fingerprint: &str,
+    width: u32,
+    height: u32,
+    shadows: bool,
+    srgb: bool,
+) -> String {
+    let settings = format!(
+        "{width}x{height} shadows={shadows} srgb={srgb} v{}",
+        env!("CARGO_PKG_VERSION")
+    );
+    content_hash(&[fingerprint.as_bytes(), settings.as_bytes()])
+}
+
 /// The PNG of a frame: `DIR/frame_000042.png`.
 pub fn frame_path(dir: &Path, frame: usize) -> PathBuf {
     dir.join(format!("frame_{frame:06}.png"))

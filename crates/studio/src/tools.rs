@@ -229,6 +229,7 @@ pub fn slice(
         size: Some(size),
         tolerance: None,
         strict_air: model.strict_air(),
+        centre: None,
     };
     let section = sv_check::slice(&check_model, &opts).map_err(|e| e.to_string())?;
     let bytes: Vec<u8> = section

@@ -480,3 +480,29 @@ REGION C = +c
     assert_eq!(one.overlaps.len(), 2);
     assert_eq!(one, run(3));
 }
+
+#[test]
+fn a_check_split_into_parts_merges_to_the_same_report() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let opts = CheckOptions {
+        random: 3000,
+        ..CheckOptions::default()
+    };
+    let whole = sv_check::check(&m, &opts).unwrap();
+    let chunks = sv_check::check_chunks(&m, &opts).unwrap();
+    assert!(chunks > 3, "{chunks}");
+    // Three uneven shares, merged out of order after a JSON round trip.
+    let cuts = [0, 1, chunks / 2, chunks];
+    let mut parts: Vec<sv_check::CheckPart> = cuts
+        .windows(2)
+        .map(|w| sv_check::check_part(&m, &opts, w[0]..w[1]).unwrap())
+        .map(|part| serde_json::from_str(&serde_json::to_string(&part).unwrap()).unwrap())
+        .collect();
+    parts.reverse();
+    let mut merged = sv_check::check_merge(&m, &opts, &parts).unwrap();
+    merged.seconds = whole.seconds;
+    assert_eq!(merged.to_json(), whole.to_json());
+    assert!(!whole.overlaps.is_empty());
+    // A missing share is refused.
+    assert!(sv_check::check_merge(&m, &opts, &parts[1..]).is_err());
+}

@@ -14,6 +14,7 @@ fn opts(plane: Plane) -> SliceOptions {
         plane,
         extent: Some((4.0, 2.0)),
         size: Some((200, 100)),
+        centre: None,
         tolerance: None,
         strict_air: false,
     }
@@ -106,6 +107,7 @@ REGION CORE  = +s
             plane: Plane::axis(0, 0.0),
             extent: None,
             size: Some((100, 100)),
+            centre: None,
             tolerance: None,
             strict_air: false,
         },
@@ -144,6 +146,7 @@ fn a_size_alone_keeps_pixels_square() {
             plane: Plane::axis(2, 0.0),
             extent: None,
             size: Some((300, 300)),
+            centre: None,
             tolerance: None,
             strict_air: false,
         },

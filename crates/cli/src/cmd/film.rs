@@ -10,7 +10,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 use sv_formats::script::{load_script, Film};
 use sv_formats::LoadOptions;
-use sv_output::film::{content_hash, make_film, parse_frame_range, FilmOptions, FilmReport};
+use sv_output::film::{frames_hash, make_film, parse_frame_range, FilmOptions, FilmReport};
 use sv_output::{to_rgb8, Encoding};
 use sv_render::{Frame, Renderer, Settings};
 
@@ -75,13 +75,7 @@ pub fn film(args: FilmArgs) -> Result<ExitCode, CliError> {
         None => 0..total,
     };
     let shadows = !args.no_shadows;
-    // Everything besides the script that decides the pictures.
-    let settings = format!(
-        "{width}x{height} shadows={shadows} srgb={} v{}",
-        args.srgb,
-        env!("CARGO_PKG_VERSION")
-    );
-    let hash = content_hash(&[film.fingerprint().as_bytes(), settings.as_bytes()]);
+    let hash = frames_hash(&film.fingerprint(), width, height, shadows, args.srgb);
     if args.dry_run {
         outln!(
             "{total} frames at {} fps, {width}x{height}; would render frames {}..{}",

@@ -94,6 +94,7 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
         plane,
         extent,
         size,
+        centre: None,
         tolerance: args.check.tolerance,
         strict_air: args.strict_air || input.strict_air(),
     };
@@ -198,25 +199,11 @@ fn print_legend(out: &Path, legend_path: &Path, model: &Model, section: &Slice) 
 /// `--plane AXIS=VALUE`, or `--origin` with `--normal`.
 fn parse_plane(args: &SliceArgs) -> Result<Plane, CliError> {
     match (&args.plane, &args.origin, &args.normal) {
-        (Some(text), None, None) => {
-            let bad = || {
-                bad_input(format!(
-                    "--plane: expected x=VALUE, y=VALUE or z=VALUE, found `{text}`"
-                ))
-            };
-            let (axis, value) = text.split_once('=').ok_or_else(bad)?;
-            let axis = match axis.trim().to_ascii_lowercase().as_str() {
-                "x" => 0,
-                "y" => 1,
-                "z" => 2,
-                _ => return Err(bad()),
-            };
-            let value: f64 = value.trim().parse().map_err(|_| bad())?;
-            if !value.is_finite() {
-                return Err(bad());
-            }
-            Ok(Plane::axis(axis, value))
-        }
+        (Some(text), None, None) => Plane::parse(text).ok_or_else(|| {
+            bad_input(format!(
+                "--plane: expected x=VALUE, y=VALUE or z=VALUE, found `{text}`"
+            ))
+        }),
         (None, Some(origin), Some(normal)) => {
             let origin = parse_vec3(origin, "--origin")?;
             let normal = parse_vec3(normal, "--normal")?;

@@ -13,6 +13,9 @@
 //!   overlaps, voids and region outlines drawn.
 //! * [`volumes`]: volume, statistical error, centroid and mass of every
 //!   region by ray sampling, refined until a relative error is reached.
+//! * [`diff()`]: whether two models of one experiment (an MCNP input and
+//!   an OpenMC model, say) hold the same materials in the same places, with
+//!   [`diff_picture`] to show where not.
 //! * [`overlap_pixels`]: which pixels of a picture see an overlap;
 //!   [`camera_overlaps`] for a camera's picture, and
 //!   [`OverlapPixels::paint`] to mark them on it (`render --overlaps`).
@@ -39,6 +42,7 @@
 mod analyse;
 mod check;
 mod colour;
+mod diff;
 mod legend;
 mod model;
 mod overlay;
@@ -50,6 +54,10 @@ mod volume;
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use check::{check, CheckOptions};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
+pub use diff::{
+    diff, diff_picture, ClassVolume, DiffOptions, DiffPicture, DiffReport, DiffSide, Place,
+    RegionVolumeOf, UnmatchedSubstance,
+};
 pub use legend::with_legend;
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};

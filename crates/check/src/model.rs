@@ -231,10 +231,22 @@ impl Model {
             None => None,
             Some(universe) => Some(build_hull(geometry, universe)?),
         };
+        // A region bounded only by the outsides of surfaces (MCNP's `5 -6
+        // -8 9`, a slab of a cylinder between two planes) has no finite
+        // bounds from its `+` bodies: the prepared zones' bounds, which
+        // count the planes' outsides too, then bound it.
         let region_bounds: Vec<Aabb> = geometry
             .regions
             .iter()
-            .map(|r| region_bounds(&prepared, r))
+            .enumerate()
+            .map(|(index, r)| {
+                let from_plus = region_bounds(&prepared, r);
+                if from_plus.is_finite() {
+                    from_plus
+                } else {
+                    from_plus.intersection(&prepared.region_bounds(index))
+                }
+            })
             .collect();
         // The rays cover every finite region that is not beyond the model
         // (black holes set aside: a FLUKA world of 1e10 cm would leave a

@@ -38,6 +38,8 @@ pub enum Command {
     Volume(cmd::volume::VolumeArgs),
     /// Write a scene as a POV-Ray scene (pov) or in the scene language (sv).
     Export(cmd::export::ExportArgs),
+    /// Compare two models of one experiment: same materials in the same places? (exit 1 when not)
+    Diff(cmd::diff::DiffArgs),
 }
 
 #[derive(Args, Debug, Clone)]

@@ -5,6 +5,7 @@ pub mod bench;
 pub mod bodies;
 pub mod check;
 pub mod convert;
+pub mod diff;
 pub mod export;
 pub mod film;
 pub mod info;
@@ -32,6 +33,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Slice(args) => slice::slice(args),
         Command::Volume(args) => volume::volume(args),
         Command::Export(args) => export::export(args),
+        Command::Diff(args) => diff::diff(args),
     }
 }
 

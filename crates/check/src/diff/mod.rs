@@ -60,6 +60,10 @@ pub struct DiffOptions {
     pub map: Vec<(String, String)>,
     /// How many of the worst places to list (12).
     pub worst: usize,
+    /// Compare inside this box instead of where the models' bounds overlap
+    /// (needed when a model is unbounded: an infinite lattice, a pin cell
+    /// infinite in z).
+    pub region: Option<Aabb>,
 }
 
 impl Default for DiffOptions {
@@ -73,6 +77,7 @@ impl Default for DiffOptions {
             density_tolerance: 0.01,
             map: Vec::new(),
             worst: 12,
+            region: None,
         }
     }
 }
@@ -168,18 +173,18 @@ impl<'a> PairRays<'a> {
         }
     }
 
-    /// Trace `ray` over `(0, length)` in both models and walk the pieces.
+    /// Trace `ray` over `(t0, t1)` in both models and walk the pieces.
     pub(crate) fn trace(
         &mut self,
         ray: &Ray,
-        length: f64,
+        (t0, t1): (f64, f64),
         f: impl FnMut(f64, f64, Option<u32>, Option<u32>),
     ) {
         for side in 0..2 {
-            self.checks[side].partitions(ray, 0.0, length);
+            self.checks[side].partitions(ray, t0, t1);
             disjoint(&self.checks[side].parts, &mut self.stretches[side]);
         }
-        pieces(&self.stretches[0], &self.stretches[1], (0.0, length), f);
+        pieces(&self.stretches[0], &self.stretches[1], (t0, t1), f);
     }
 }
 
@@ -212,8 +217,7 @@ pub fn diff(a: DiffSide, b: DiffSide, opts: &DiffOptions) -> Result<DiffReport, 
         ));
     }
     let start = Instant::now();
-    let bounds = [a.model.finite_bounds()?, b.model.finite_bounds()?];
-    let common = bounds[0].intersection(&bounds[1]);
+    let (bounds, common) = compared(&a, &b, opts)?;
     let subs = [Substances::of_scene(a.scene), Substances::of_scene(b.scene)];
     let matching = match_substances(
         &subs[0].list,
@@ -241,6 +245,21 @@ pub fn diff(a: DiffSide, b: DiffSide, opts: &DiffOptions) -> Result<DiffReport, 
         },
         opts,
     ))
+}
+
+/// The bounds of both models and the box to compare them in.
+pub(crate) fn compared(
+    a: &DiffSide,
+    b: &DiffSide,
+    opts: &DiffOptions,
+) -> Result<([Aabb; 2], Aabb), CheckError> {
+    match opts.region {
+        Some(region) => Ok(([a.model.bounds(), b.model.bounds()], region)),
+        None => {
+            let bounds = [a.model.finite_bounds()?, b.model.finite_bounds()?];
+            Ok((bounds, bounds[0].intersection(&bounds[1])))
+        }
+    }
 }
 
 /// Statistics gathered over the batches.
@@ -275,8 +294,14 @@ impl Sampled {
             o.rays_per_side,
             (o.seed, id as u64),
             || PairRays::new(models[0], models[1]),
-            |pair, ray, length, area, tally: &mut Tally| {
-                pair.trace(ray, length, |t0, t1, ra, rb| {
+            |pair, ray, _, area, tally: &mut Tally| {
+                // Only inside the box: the grid's rays start a little
+                // before it, where one model may hold what the other
+                // leaves out.
+                let axis = (0..3).find(|&k| ray.dir[k] != 0.0).unwrap_or(2);
+                let enter = bx.min[axis] - ray.origin[axis];
+                let within = (enter, enter + bx.size()[axis]);
+                pair.trace(ray, within, |t0, t1, ra, rb| {
                     let volume = (t1 - t0) * area;
                     for (side, region) in [ra, rb].into_iter().enumerate() {
                         if let Some(r) = region {

@@ -3,7 +3,7 @@
 //! z that add up the disagreement along each ray (bottom row).
 
 use super::substance::{match_substances, Substances};
-use super::{Classes, DiffOptions, DiffSide, PairRays};
+use super::{compared, Classes, DiffOptions, DiffSide, PairRays};
 use crate::colour::region_colour;
 use crate::model::CheckError;
 use rayon::prelude::*;
@@ -99,7 +99,7 @@ fn section_row(
     let mut dir = DVec3::ZERO;
     dir[panel.u] = 1.0;
     let length = side as f64 * panel.scale;
-    pair.trace(&Ray::new(start, dir), length, |t0, t1, ra, rb| {
+    pair.trace(&Ray::new(start, dir), (0.0, length), |t0, t1, ra, rb| {
         let colour = colour_of(cl.class(0, ra), cl.class(1, rb));
         let first = (t0 / panel.scale - 0.5).ceil().max(0.0) as usize;
         let last = ((t1 / panel.scale - 0.5).ceil().max(0.0) as usize).min(out.len());
@@ -128,7 +128,7 @@ fn view_row(
         .map(|i| {
             let start = panel.point(i as f64 + 0.5, row as f64 + 0.5, side, bx.min[panel.normal]);
             let (mut material, mut differ) = (0.0, 0.0);
-            pair.trace(&Ray::new(start, dir), depth, |t0, t1, ra, rb| {
+            pair.trace(&Ray::new(start, dir), (0.0, depth), |t0, t1, ra, rb| {
                 let (ca, cb) = (cl.class(0, ra), cl.class(1, rb));
                 if ca != 0 || cb != 0 {
                     material += t1 - t0;
@@ -155,10 +155,7 @@ pub fn diff_picture(
     side: u32,
 ) -> Result<DiffPicture, CheckError> {
     let side = side.clamp(16, 4096);
-    let common = a
-        .model
-        .finite_bounds()?
-        .intersection(&b.model.finite_bounds()?);
+    let (_, common) = compared(&a, &b, opts)?;
     if common.is_empty() {
         return Err(CheckError::Option(
             "the models' bounds do not overlap: nothing to draw".into(),

@@ -141,6 +141,9 @@ fn held(input: &Inputs, side: usize, region: Option<u32>) -> (String, String) {
 }
 
 fn bounds_notes(bounds: &[Aabb; 2], common: &Aabb) -> Vec<String> {
+    if bounds.iter().any(|b| b.is_empty() || !b.is_finite()) {
+        return vec!["a model is unbounded: compared inside the box given".into()];
+    }
     if common.is_empty() {
         return vec![
             "the models' bounds do not overlap: nothing to compare (different units or origins?)"

@@ -3,6 +3,7 @@
 //! tolerance, 1 when not.
 
 use crate::args::InputArgs;
+use crate::cmd::check::parse_box;
 use crate::cmd::{check_error, emit};
 use crate::error::{bad_input, runtime, CliError};
 use crate::load::load;
@@ -49,6 +50,14 @@ pub struct DiffArgs {
     /// Batches (their spread gives the errors).
     #[arg(long, default_value_t = 8)]
     pub batches: u32,
+    /// Compare inside this box instead of where the models' bounds overlap
+    /// (needed when a model is unbounded).
+    #[arg(
+        long = "box",
+        value_name = "X0,Y0,Z0,X1,Y1,Z1",
+        allow_hyphen_values = true
+    )]
+    pub bounds: Option<String>,
     /// Seed of the sampling.
     #[arg(long, default_value_t = 1971)]
     pub seed: u64,
@@ -141,6 +150,7 @@ pub fn diff(args: DiffArgs) -> Result<ExitCode, CliError> {
         composition_tolerance: args.composition_tolerance,
         density_tolerance: args.density_tolerance,
         map: map.unwrap_or_default(),
+        region: args.bounds.as_deref().map(parse_box).transpose()?,
         ..DiffOptions::default()
     };
     let pool = thread_pool(args.threads)?;

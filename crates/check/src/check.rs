@@ -180,7 +180,8 @@ pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     };
     check_ray_counts(checked_box.size(), spacing, opts)?;
     let grid = Grid::new(checked_box.min, checked_box.max, spacing);
-    let (findings, seen) = fire_rays(model, &grid, &checked_box, opts, tolerance);
+    let (findings, mut seen) = fire_rays(model, &grid, &checked_box, opts, tolerance);
+    model.container_seen(&mut seen);
     let sorted = sort_findings(model, findings, opts.strict_air);
     Ok(Report {
         unit: model.unit.clone(),

@@ -90,6 +90,9 @@ pub struct SliceOptions {
     /// solid region is drawn there, as GIFT and BRL-CAD resolve them (see
     /// [`CheckOptions::strict_air`](crate::CheckOptions::strict_air)).
     pub strict_air: bool,
+    /// Centre the picture on the plane's origin (a point the user gave)
+    /// instead of on the model's bounds projected on the plane.
+    pub centre_on_origin: bool,
 }
 
 /// One line of the legend.
@@ -251,7 +254,13 @@ fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
             )))
         }
         None => {
-            let (w, h) = ((umax - umin) * 1.08, (vmax - vmin) * 1.08);
+            // Centred on the origin, the view reaches the farther side.
+            let (w, h) = if opts.centre_on_origin {
+                let reach = |lo: f64, hi: f64| 2.0 * lo.abs().max(hi.abs());
+                (reach(umin, umax) * 1.08, reach(vmin, vmax) * 1.08)
+            } else {
+                ((umax - umin) * 1.08, (vmax - vmin) * 1.08)
+            };
             let longest = w.max(h).max(1e-9);
             (w.max(longest * 0.02), h.max(longest * 0.02))
         }
@@ -288,8 +297,14 @@ fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
         }
         _ => (extent_w, extent_h),
     };
+    // Plane coordinates are measured from the plane's origin.
+    let centre = if opts.centre_on_origin {
+        (0.0, 0.0)
+    } else {
+        (0.5 * (umin + umax), 0.5 * (vmin + vmax))
+    };
     Ok(View {
-        centre: (0.5 * (umin + umax), 0.5 * (vmin + vmax)),
+        centre,
         extent,
         width,
         height,

@@ -16,6 +16,7 @@ fn opts(plane: Plane) -> SliceOptions {
         size: Some((200, 100)),
         tolerance: None,
         strict_air: false,
+        centre_on_origin: false,
     }
 }
 
@@ -108,6 +109,7 @@ REGION CORE  = +s
             size: Some((100, 100)),
             tolerance: None,
             strict_air: false,
+            centre_on_origin: false,
         },
     )
     .unwrap();
@@ -146,6 +148,7 @@ fn a_size_alone_keeps_pixels_square() {
             size: Some((300, 300)),
             tolerance: None,
             strict_air: false,
+            centre_on_origin: false,
         },
     )
     .unwrap();
@@ -179,4 +182,23 @@ fn huge_pictures_are_refused() {
     let mut o = opts(Plane::axis(2, 0.0));
     o.size = Some((16384, 16384));
     assert!(slice(&m, &o).is_err());
+}
+
+#[test]
+fn a_plane_given_by_a_point_is_centred_on_it() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let origin = DVec3::new(5.0, -3.0, 0.25);
+    let s = slice(
+        &m,
+        &SliceOptions {
+            plane: Plane::new(origin, DVec3::Z).expect("a plane"),
+            extent: Some((2.0, 2.0)),
+            size: Some((20, 20)),
+            tolerance: None,
+            strict_air: false,
+            centre_on_origin: true,
+        },
+    )
+    .expect("slices");
+    assert!((s.centre - origin).length() < 1e-12, "{:?}", s.centre);
 }

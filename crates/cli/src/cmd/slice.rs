@@ -88,6 +88,7 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
         size,
         tolerance: args.check.tolerance,
         strict_air: args.strict_air || input.strict_air(),
+        centre_on_origin: args.origin.is_some(),
     };
     let section = thread_pool(args.check.threads)?
         .install(|| sv_check::slice(&model, &opts))

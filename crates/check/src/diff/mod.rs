@@ -90,6 +90,23 @@ pub(crate) struct Classes {
 }
 
 impl Classes {
+    /// The substances of both models, how they match, and the classes.
+    pub(crate) fn of(
+        a: &DiffSide,
+        b: &DiffSide,
+        opts: &DiffOptions,
+    ) -> ([Substances; 2], Matching, Classes) {
+        let subs = [Substances::of_scene(a.scene), Substances::of_scene(b.scene)];
+        let matching = match_substances(
+            &subs[0].list,
+            &subs[1].list,
+            &opts.map,
+            (opts.composition_tolerance, opts.density_tolerance),
+        );
+        let classes = Classes::new(&subs, &matching);
+        (subs, matching, classes)
+    }
+
     fn new(subs: &[Substances; 2], matching: &Matching) -> Classes {
         let of = |s: &Substances, class: &[u32]| -> Vec<u32> {
             s.of_region
@@ -218,14 +235,7 @@ pub fn diff(a: DiffSide, b: DiffSide, opts: &DiffOptions) -> Result<DiffReport, 
     }
     let start = Instant::now();
     let (bounds, common) = compared(&a, &b, opts)?;
-    let subs = [Substances::of_scene(a.scene), Substances::of_scene(b.scene)];
-    let matching = match_substances(
-        &subs[0].list,
-        &subs[1].list,
-        &opts.map,
-        (opts.composition_tolerance, opts.density_tolerance),
-    );
-    let classes = Classes::new(&subs, &matching);
+    let (subs, matching, classes) = Classes::of(&a, &b, opts);
     let models = [a.model, b.model];
     let mut sampled = Sampled::new(&models, classes.count);
     if !common.is_empty() {

@@ -2,7 +2,6 @@
 //! the compared box across x, y and z (top row), and views along x, y and
 //! z that add up the disagreement along each ray (bottom row).
 
-use super::substance::{match_substances, Substances};
 use super::{compared, Classes, DiffOptions, DiffSide, PairRays};
 use crate::colour::region_colour;
 use crate::model::CheckError;
@@ -161,14 +160,7 @@ pub fn diff_picture(
             "the models' bounds do not overlap: nothing to draw".into(),
         ));
     }
-    let subs = [Substances::of_scene(a.scene), Substances::of_scene(b.scene)];
-    let matching = match_substances(
-        &subs[0].list,
-        &subs[1].list,
-        &opts.map,
-        (opts.composition_tolerance, opts.density_tolerance),
-    );
-    let classes = Classes::new(&subs, &matching);
+    let (_, _, classes) = Classes::of(&a, &b, opts);
     let width = 3 * side + 2 * GAP;
     let height = 2 * side + GAP;
     let mut rgb = vec![[0.3f32; 3]; (width * height) as usize];

@@ -96,7 +96,7 @@ fn read_map(path: &Path) -> Result<Vec<(String, String)>, CliError> {
 }
 
 fn check_fraction(name: &str, value: f64) -> Result<(), CliError> {
-    if value >= 0.0 && value < 1.0 {
+    if (0.0..1.0).contains(&value) {
         Ok(())
     } else {
         Err(bad_input(format!(

@@ -525,8 +525,10 @@ impl Prepared {
                                 Bound::new(eb, u32::MAX, 0)
                             };
                             if sub == NOTHING {
-                                // The lattice region's own material.
-                                if hi.t > lo.t {
+                                // The lattice region's own material (not
+                                // the slivers where the walk steps over a
+                                // face).
+                                if hi.t - lo.t > self.tol {
                                     out.push((z.region, Span { a: lo, b: hi }));
                                 }
                             } else {

@@ -314,6 +314,8 @@ fn report(
                 .or_insert(*acc);
         }
     }
+    // A lattice-filled cell is seen when its contents are.
+    model.container_seen(&mut seen);
     let sorted = sort_findings(model, findings, opts.strict_air);
     let checked_box = plan.checked_box;
     Report {

@@ -13,6 +13,9 @@
 //!   overlaps, voids and region outlines drawn.
 //! * [`volumes`]: volume, statistical error, centroid and mass of every
 //!   region by ray sampling, refined until a relative error is reached.
+//! * [`diff()`]: whether two models of one experiment (an MCNP input and
+//!   an OpenMC model, say) hold the same materials in the same places, with
+//!   [`diff_picture`] to show where not.
 //! * [`overlap_pixels`]: which pixels of a picture see an overlap;
 //!   [`camera_overlaps`] for a camera's picture, and
 //!   [`OverlapPixels::paint`] to mark them on it (`render --overlaps`).
@@ -40,6 +43,7 @@ mod analyse;
 mod axes;
 mod check;
 mod colour;
+mod diff;
 mod legend;
 mod model;
 mod overlay;
@@ -52,6 +56,10 @@ pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use axes::with_axes;
 pub use check::{check, check_chunks, check_merge, check_part, CheckOptions, CheckPart};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
+pub use diff::{
+    diff, diff_picture, ClassVolume, DiffOptions, DiffPicture, DiffReport, DiffSide, Place,
+    RegionVolumeOf, UnmatchedSubstance,
+};
 pub use legend::{legend_entries, with_legend, with_legend_entries, Swatch};
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};

@@ -1,7 +1,7 @@
 //! The model to check: the prepared geometry, region names, the declared
 //! universe and its hull.
 
-use sv_geom::{Geometry, Op, Region, Warning, Zone};
+use sv_geom::{Fill, Geometry, Op, Region, Warning, Zone};
 use sv_math::Aabb;
 use sv_scene::Scene;
 use sv_trace::{PrepareError, PrepareOptions, Prepared};
@@ -83,6 +83,10 @@ pub struct Model {
     pub unit: String,
     pub(crate) hull: Option<Hull>,
     pub(crate) region_bounds: Vec<Aabb>,
+    /// Per region, the universes its fill holds (empty when not filled).
+    filled_with: Vec<Vec<usize>>,
+    /// Per region, the universe it belongs to.
+    universe_of: Vec<usize>,
     box_: Aabb,
     check_box: Aabb,
 }
@@ -232,10 +236,22 @@ impl Model {
             None => None,
             Some(universe) => Some(build_hull(geometry, universe)?),
         };
+        // A region bounded only by the outsides of surfaces (MCNP's `5 -6
+        // -8 9`, a slab of a cylinder between two planes) has no finite
+        // bounds from its `+` bodies: the prepared zones' bounds, which
+        // count the planes' outsides too, then bound it.
         let region_bounds: Vec<Aabb> = geometry
             .regions
             .iter()
-            .map(|r| region_bounds(&prepared, r))
+            .enumerate()
+            .map(|(index, r)| {
+                let from_plus = region_bounds(&prepared, r);
+                if from_plus.is_finite() {
+                    from_plus
+                } else {
+                    from_plus.intersection(&prepared.region_bounds(index))
+                }
+            })
             .collect();
         // Slices and volumes cover every finite region of the model (black
         // holes set aside). The rays of a check cover those that are not
@@ -299,6 +315,8 @@ impl Model {
                 unit: scene.units.abbrev().to_string(),
                 hull,
                 region_bounds,
+                filled_with: geometry.regions.iter().map(fill_universes).collect(),
+                universe_of: geometry.regions.iter().map(|r| r.universe).collect(),
                 box_,
                 check_box,
             },
@@ -353,10 +371,56 @@ impl Model {
         self.air.get(r).is_some_and(|&code| code != 0)
     }
 
+    /// Mark a filled region seen when a region of what it holds was seen:
+    /// rays report what fills a region, not the region around it.
+    pub(crate) fn container_seen(&self, seen: &mut [bool]) {
+        let universes = self.universe_of.iter().copied().max().map_or(0, |u| u + 1);
+        // Each pass lifts what was seen one level of nesting up.
+        loop {
+            let mut universe_seen = vec![false; universes];
+            for (region, &was_seen) in seen.iter().enumerate() {
+                if was_seen {
+                    universe_seen[self.universe_of[region]] = true;
+                }
+            }
+            let mut changed = false;
+            for (region, filled) in self.filled_with.iter().enumerate() {
+                let met = filled.iter().any(|&u| universe_seen.get(u) == Some(&true));
+                if met && !seen[region] {
+                    seen[region] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return;
+            }
+        }
+    }
+
     /// True when region `r` reaches outside [`Model::bounds`].
     pub fn region_is_clipped(&self, r: usize) -> bool {
         let b = self.region_bounds[r];
         !b.is_empty() && b.union(&self.box_) != self.box_
+    }
+}
+
+/// The universes `region`'s fill holds.
+fn fill_universes(region: &Region) -> Vec<usize> {
+    match &region.fill {
+        None => Vec::new(),
+        Some(Fill::Universe { universe, .. }) => vec![*universe],
+        Some(Fill::Lattice(lattice)) => {
+            let mut universes: Vec<usize> = lattice
+                .elements
+                .iter()
+                .chain(std::iter::once(&lattice.outer))
+                .flatten()
+                .copied()
+                .collect();
+            universes.sort_unstable();
+            universes.dedup();
+            universes
+        }
     }
 }
 

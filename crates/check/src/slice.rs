@@ -268,7 +268,15 @@ fn view(model: &Model, opts: &SliceOptions) -> Result<View, CheckError> {
             )))
         }
         None => {
-            let (w, h) = ((umax - umin) * 1.08, (vmax - vmin) * 1.08);
+            // Centred on a given point, the view reaches the farther side.
+            let (w, h) = if let Some(point) = opts.centre.filter(|p| p.is_finite()) {
+                let offset = point - opts.plane.origin;
+                let (cu, cv) = (offset.dot(opts.plane.u), offset.dot(opts.plane.v));
+                let reach = |lo: f64, hi: f64, c: f64| 2.0 * (lo - c).abs().max((hi - c).abs());
+                (reach(umin, umax, cu) * 1.08, reach(vmin, vmax, cv) * 1.08)
+            } else {
+                ((umax - umin) * 1.08, (vmax - vmin) * 1.08)
+            };
             let longest = w.max(h).max(1e-9);
             (w.max(longest * 0.02), h.max(longest * 0.02))
         }

@@ -174,15 +174,15 @@ impl VolumeReport {
 }
 
 #[derive(Clone, Copy, Debug, Default)]
-struct Stats {
-    n: u32,
-    mean: f64,
+pub(crate) struct Stats {
+    pub(crate) n: u32,
+    pub(crate) mean: f64,
     m2: f64,
     moment: DVec3,
 }
 
 impl Stats {
-    fn add(&mut self, v: f64, m: DVec3) {
+    pub(crate) fn add(&mut self, v: f64, m: DVec3) {
         self.n += 1;
         let d = v - self.mean;
         self.mean += d / self.n as f64;
@@ -190,7 +190,7 @@ impl Stats {
         self.moment += m;
     }
 
-    fn stderr(&self) -> f64 {
+    pub(crate) fn stderr(&self) -> f64 {
         if self.n < 2 {
             return f64::INFINITY;
         }
@@ -204,6 +204,51 @@ impl Stats {
     }
 }
 
+/// One batch of a jittered grid over `bx`: along each of x, y and z, one
+/// ray through a random point of every cell of an `n`×`n` grid over the
+/// box's face. `per_ray(state, ray, length, area, out)` is called for each
+/// ray, which runs `length` through the box (padded) and stands for `area`
+/// (a third of its cell: the three axes are averaged). Returns one `out`
+/// per row of rays, in a fixed order whatever the threads.
+pub(crate) fn jittered_batch<State, Out: Default + Send>(
+    bx: &Aabb,
+    n: u32,
+    (seed, id): (u64, u64),
+    init: impl Fn() -> State + Sync + Send,
+    per_ray: impl Fn(&mut State, &Ray, f64, f64, &mut Out) + Sync + Send,
+) -> Vec<Out> {
+    let size = bx.size();
+    let pad = 1e-3 * size.length() + 1e-9;
+    (0..3 * n as u64)
+        .into_par_iter()
+        .map_init(&init, |state, row| {
+            let k = (row / n as u64) as usize;
+            let j = row % n as u64;
+            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+            let (cu, cv) = (size[u] / n as f64, size[v] / n as f64);
+            let area = cu * cv / 3.0;
+            let mut out = Out::default();
+            for i in 0..n as u64 {
+                let key = (row << 20) | i;
+                let mut o = DVec3::ZERO;
+                o[k] = bx.min[k] - pad;
+                o[u] = bx.min[u] + (i as f64 + uniform(seed, id, key, 0)) * cu;
+                o[v] = bx.min[v] + (j as f64 + uniform(seed, id, key, 1)) * cv;
+                let mut dir = DVec3::ZERO;
+                dir[k] = 1.0;
+                per_ray(
+                    state,
+                    &Ray::new(o, dir),
+                    size[k] + 2.0 * pad,
+                    area,
+                    &mut out,
+                );
+            }
+            out
+        })
+        .collect()
+}
+
 /// One batch over `bx` with `n`×`n` cells per axis. Returns, per region
 /// hit (only `only` when given), the volume estimate and the first moment.
 fn batch(
@@ -214,42 +259,23 @@ fn batch(
     id: u64,
     only: Option<u32>,
 ) -> Vec<(u32, f64, DVec3)> {
-    let size = bx.size();
-    let pad = 1e-3 * size.length() + 1e-9;
-    let rows: Vec<Vec<(u32, f64, DVec3)>> = (0..3 * n as u64)
-        .into_par_iter()
-        .map_init(
-            || RayCheck::new(model),
-            |rc, row| {
-                let k = (row / n as u64) as usize;
-                let j = row % n as u64;
-                let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-                let (cu, cv) = (size[u] / n as f64, size[v] / n as f64);
-                let area = cu * cv / 3.0;
-                let mut out = Vec::new();
-                for i in 0..n as u64 {
-                    let key = (row << 20) | i;
-                    let mut o = DVec3::ZERO;
-                    o[k] = bx.min[k] - pad;
-                    o[u] = bx.min[u] + (i as f64 + uniform(seed, id, key, 0)) * cu;
-                    o[v] = bx.min[v] + (j as f64 + uniform(seed, id, key, 1)) * cv;
-                    let mut dir = DVec3::ZERO;
-                    dir[k] = 1.0;
-                    let ray = Ray::new(o, dir);
-                    rc.partitions(&ray, 0.0, size[k] + 2.0 * pad);
-                    for p in &rc.parts {
-                        if only.is_some_and(|r| r != p.region) {
-                            continue;
-                        }
-                        let len = p.span.b.t - p.span.a.t;
-                        let mid = ray.at(0.5 * (p.span.a.t + p.span.b.t));
-                        out.push((p.region, len * area, mid * (len * area)));
-                    }
+    let rows = jittered_batch(
+        bx,
+        n,
+        (seed, id),
+        || RayCheck::new(model),
+        |rc, ray, length, area, out: &mut Vec<(u32, f64, DVec3)>| {
+            rc.partitions(ray, 0.0, length);
+            for p in &rc.parts {
+                if only.is_some_and(|r| r != p.region) {
+                    continue;
                 }
-                out
-            },
-        )
-        .collect();
+                let len = p.span.b.t - p.span.a.t;
+                let mid = ray.at(0.5 * (p.span.a.t + p.span.b.t));
+                out.push((p.region, len * area, mid * (len * area)));
+            }
+        },
+    );
     rows.into_iter().flatten().collect()
 }
 

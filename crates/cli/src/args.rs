@@ -61,6 +61,8 @@ pub enum Command {
     Man(cmd::shell::ManArgs),
     /// Look into a model in a browser: turn it, pick, cut, x-ray (a local web page).
     Studio(cmd::studio::StudioArgs),
+    /// Compare two models of one experiment: same materials in the same places? (exit 1 when not)
+    Diff(cmd::diff::DiffArgs),
 }
 
 #[derive(Args, Debug, Clone)]

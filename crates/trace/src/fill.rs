@@ -343,8 +343,9 @@ impl LatticeWalk {
     }
 
     /// Each element the ray crosses between `t0` and `t1` (lattice frame),
-    /// in order, with the stretch inside it; `visit` stops the walk by
-    /// returning true.
+    /// in order, with the stretch inside it ([`NOTHING`] for an element
+    /// that holds no universe: the lattice region's own material); `visit`
+    /// stops the walk by returning true.
     fn for_each_element(
         &self,
         ray: &Ray,
@@ -360,7 +361,7 @@ impl LatticeWalk {
             let e = self.element_at(ray.at(t + self.nudge));
             let end = self.exit(e, ray, t).min(t1);
             let (sub, at) = self.universe(e);
-            if sub != NOTHING && visit(sub, at, t, end) {
+            if visit(sub, at, t, end) {
                 return;
             }
             t = end.max(t + self.nudge);
@@ -435,6 +436,9 @@ impl Prepared {
                 let frame = |t: f64| t * moved.scale;
                 let mut found = None;
                 walk.for_each_element(&inside, frame(t0), frame(t1), |sub, at, a, b| {
+                    if sub == NOTHING {
+                        return false;
+                    }
                     found = self.sub_hit(sub, moved, at, ray, a / moved.scale, b / moved.scale, s);
                     found.is_some()
                 });
@@ -520,7 +524,16 @@ impl Prepared {
                             } else {
                                 Bound::new(eb, u32::MAX, 0)
                             };
-                            self.sub_partitions(sub, moved, at, ray, (lo, hi), s, out);
+                            if sub == NOTHING {
+                                // The lattice region's own material (not
+                                // the slivers where the walk steps over a
+                                // face).
+                                if hi.t - lo.t > self.tol {
+                                    out.push((z.region, Span { a: lo, b: hi }));
+                                }
+                            } else {
+                                self.sub_partitions(sub, moved, at, ray, (lo, hi), s, out);
+                            }
                             false
                         },
                     );

@@ -2,6 +2,8 @@
 //! against closed forms, section views and report shapes.
 
 mod decks;
+mod diffs;
+mod lattices;
 mod overlaps;
 mod slices;
 mod voids;

@@ -183,3 +183,22 @@ fn huge_pictures_are_refused() {
     o.size = Some((16384, 16384));
     assert!(slice(&m, &o).is_err());
 }
+
+#[test]
+fn a_plane_given_by_a_point_is_centred_on_it() {
+    let m = model(SPHERES, UniverseChoice::None);
+    let origin = DVec3::new(5.0, -3.0, 0.25);
+    let s = slice(
+        &m,
+        &SliceOptions {
+            plane: Plane::new(origin, DVec3::Z).expect("a plane"),
+            extent: Some((2.0, 2.0)),
+            size: Some((20, 20)),
+            tolerance: None,
+            strict_air: false,
+            centre: Some(origin),
+        },
+    )
+    .expect("slices");
+    assert!((s.centre - origin).length() < 1e-12, "{:?}", s.centre);
+}

@@ -114,7 +114,7 @@ pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
 }
 
 /// `--box X0,Y0,Z0,X1,Y1,Z1`.
-fn parse_box(text: &str) -> Result<Aabb, CliError> {
+pub(crate) fn parse_box(text: &str) -> Result<Aabb, CliError> {
     let bad = || {
         bad_input(format!(
             "--box: expected six numbers X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, found `{text}`"

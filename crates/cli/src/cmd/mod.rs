@@ -6,6 +6,7 @@ pub mod bodies;
 pub mod check;
 mod colour_by;
 pub mod convert;
+pub mod diff;
 pub mod export;
 pub mod film;
 pub mod info;
@@ -43,6 +44,7 @@ pub fn run() -> Result<ExitCode, CliError> {
         Command::Completions(args) => shell::completions(args),
         Command::Man(args) => shell::man(args),
         Command::Studio(args) => studio::studio(args),
+        Command::Diff(args) => diff::diff(args),
     }
 }
 

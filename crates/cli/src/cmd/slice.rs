@@ -90,11 +90,13 @@ pub fn slice(args: SliceArgs) -> Result<ExitCode, CliError> {
     };
     let input = load(Some(&args.scene), &args.input)?;
     let model = model(&input.scene, &args.check)?;
+    let plane_origin = plane.origin;
     let opts = SliceOptions {
         plane,
         extent,
         size,
-        centre: None,
+        // A plane given by a point is centred on it.
+        centre: args.origin.is_some().then_some(plane_origin),
         tolerance: args.check.tolerance,
         strict_air: args.strict_air || input.strict_air(),
     };

@@ -395,7 +395,10 @@ impl Prepared {
             if t0 >= limit {
                 break;
             }
-            if let Some(h) = self.content_hit(fill, ray, t0, t1, s) {
+            // Elements that hold no universe are the filled region's own
+            // material, seen where the ray enters them when it is opaque.
+            let own = Some(z.region).filter(|&r| self.is_opaque(r as usize));
+            if let Some(h) = self.content_hit(fill, own, ray, t0, t1, s) {
                 found = Some(if h.inside && sp.a.t > tmin && h.t <= t0 {
                     // Entering the filled region into opaque content: its
                     // own surface is what is seen.
@@ -417,10 +420,13 @@ impl Prepared {
     }
 
     /// The first opaque hit of what `fill` holds along the ray within
-    /// `(t0, t1)`, its normal in this frame.
+    /// `(t0, t1)`, its normal in this frame; a lattice element that holds
+    /// no universe is a hit of region `own` where the ray enters it (its
+    /// face's normal not kept: it is shaded as facing the ray), when given.
     fn content_hit(
         &self,
         fill: &FillTracer,
+        own: Option<u32>,
         ray: &Ray,
         t0: f64,
         t1: f64,
@@ -437,7 +443,18 @@ impl Prepared {
                 let mut found = None;
                 walk.for_each_element(&inside, frame(t0), frame(t1), |sub, at, a, b| {
                     if sub == NOTHING {
-                        return false;
+                        let Some(region) = own else {
+                            return false;
+                        };
+                        let t = a / moved.scale;
+                        found = Some(Hit {
+                            t,
+                            region,
+                            bound: Bound::new(t, u32::MAX, 0),
+                            inside: t <= t0,
+                            zone: u32::MAX,
+                        });
+                        return true;
                     }
                     found = self.sub_hit(sub, moved, at, ray, a / moved.scale, b / moved.scale, s);
                     found.is_some()

@@ -376,7 +376,15 @@ fn a_hexagonal_lattice_puts_each_point_in_its_nearest_element() {
             Body::new("world", BodyKind::Sph, vec![0.0, 0.0, 0.0, 20.0]),
             Body::new("marker", BodyKind::Sph, vec![0.0, 0.0, 0.0, 0.2]),
         ],
-        universes: vec![Universe { name: "0".into() }, Universe { name: "m".into() }],
+        // Beyond the listed elements, an empty outer universe (without
+        // one, the lattice region's own material would fill it).
+        universes: vec![
+            Universe { name: "0".into() },
+            Universe { name: "m".into() },
+            Universe {
+                name: "empty".into(),
+            },
+        ],
         ..Geometry::default()
     };
     let mut container = Region::of_body("world", 0);
@@ -389,7 +397,7 @@ fn a_hexagonal_lattice_puts_each_point_in_its_nearest_element() {
         lowest: [-3, -3, 0],
         counts: [7, 7, 1],
         elements: vec![Some(1); 49],
-        outer: None,
+        outer: Some(2),
     }));
     g.regions.push(container);
     let mut marker = Region::of_body("marker", 1);
@@ -533,4 +541,46 @@ fn shadows_through_a_lattice_agree_with_or_without_packets() {
     assert_eq!(a, c);
     let blocked = a.iter().filter(|&&x| x).count();
     assert!(blocked > 200 && blocked < 1900, "{blocked}");
+}
+
+#[test]
+fn an_element_with_no_universe_is_the_lattice_regions_own_material() {
+    // Two elements name no universe: there the lattice region's own
+    // material fills the element (MCNP's element of the lattice's own
+    // universe), and a ray is stopped where it enters them, as the
+    // partitions say.
+    let (mut nested, _) = pin_lattice(DAffine3::IDENTITY);
+    if let Some(Fill::Lattice(lattice)) = &mut nested.regions[0].fill {
+        lattice.elements[5] = None;
+        lattice.elements[6] = None;
+    }
+    let p = prepared(&nested);
+    let mut s = Scratch::new(&p);
+    let mut parts = Vec::new();
+    let (mut own, mut compared) = (0, 0);
+    for ray in rays(&mut Pcg64::seed_from_u64(7), 3000) {
+        p.partitions(&ray, 0.0, f64::INFINITY, &mut s, &mut parts);
+        let first = parts
+            .iter()
+            .filter(|q| q.span.b.t > 0.0)
+            .min_by(|x, y| x.span.a.t.total_cmp(&y.span.a.t));
+        let hit = p.first_hit(&ray, 0.0, f64::INFINITY, &mut s);
+        match (first, hit) {
+            (None, None) => {}
+            (Some(q), Some(h)) => {
+                assert!(
+                    (q.span.a.t.max(0.0) - h.t).abs() < 1e-9,
+                    "{ray:?}: {q:?} vs {h:?}"
+                );
+                assert_eq!(q.region, h.region, "{ray:?}");
+                own += usize::from(h.region == 0);
+                compared += 1;
+            }
+            (q, h) => panic!("{ray:?}: {q:?} vs {h:?}"),
+        }
+    }
+    assert!(
+        compared > 1000 && own > 20,
+        "{compared} hits, {own} of the lattice region"
+    );
 }

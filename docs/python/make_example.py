@@ -1,8 +1,8 @@
-"""Run the walk-through and write it as docs/example.md with its pictures
-(docs/images/). Run from the repository root after
+"""Run the walk-through and write it as docs/python/example.md with its pictures
+(docs/python/images/). Run from the repository root after
 ``pip install "./crates/python[test]"``::
 
-    python crates/python/docs/make_example.py
+    python docs/python/make_example.py
 """
 
 import contextlib
@@ -16,7 +16,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[2]
+REPO = HERE.parents[1]
 IMAGES = HERE / "images"
 
 # Each step: a title, what it shows, and the code (run in one namespace).
@@ -95,7 +95,7 @@ def main():
     lines = [
         "# SynthaVision from Python: a walk-through",
         "",
-        "Made by `crates/python/docs/make_example.py` (run from the repository root);",
+        "Made by `docs/python/make_example.py` (run from the repository root);",
         "every output below is what the code printed. `TMP` is a scratch folder,",
         "`REPO` the repository.",
         "",

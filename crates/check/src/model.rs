@@ -194,6 +194,44 @@ pub fn default_tolerance(p: &Prepared) -> f64 {
     }
 }
 
+/// The boxes a model's samples cover by default: for slices and volumes,
+/// every finite region of the model (black holes set aside); for the rays
+/// of a check, those that are not air, as the vacuum and air shells a
+/// transport model wraps around its detector would leave a grid too
+/// coarse to meet it (regions wholly outside the box are listed as such in
+/// the report). Each takes in the universe's cavity when that is near it,
+/// so that holes between the model and its black hole are found; a far one
+/// is left out, as a grid over it could meet nothing smaller than its
+/// spacing.
+fn default_boxes(scene: &Scene, region_bounds: &[Aabb], hull: Option<&Hull>) -> (Aabb, Aabb) {
+    let outside = |r: usize| scene.regions.get(r).is_some_and(|p| p.outside);
+    let air = |r: usize| scene.regions.get(r).is_some_and(|p| p.air != 0);
+    let union_of = |keep: &dyn Fn(usize) -> bool| {
+        region_bounds
+            .iter()
+            .enumerate()
+            .filter(|&(r, b)| keep(r) && b.is_finite() && !b.is_empty())
+            .fold(Aabb::EMPTY, |acc, (_, b)| acc.union(b))
+    };
+    let with_near_cavity = |b: Aabb| match hull {
+        Some(Hull::Prepared(hull))
+            if hull.bounds().is_finite()
+                && (b.is_empty() || hull.bounds().diagonal() <= NEAR_UNIVERSE * b.diagonal()) =>
+        {
+            b.union(&hull.bounds())
+        }
+        _ => b,
+    };
+    let model_box = with_near_cavity(union_of(&|r| !outside(r)));
+    let solids_box = union_of(&|r| !outside(r) && !air(r));
+    let check_box = if solids_box.is_empty() {
+        model_box
+    } else {
+        with_near_cavity(solids_box)
+    };
+    (model_box, check_box)
+}
+
 impl Model {
     /// Prepare `scene` for checking. With [`UniverseChoice::Auto`], a region
     /// is taken as the universe when its description contains `BLCKHOLE`
@@ -253,43 +291,7 @@ impl Model {
                 }
             })
             .collect();
-        // Slices and volumes cover every finite region of the model (black
-        // holes set aside). The rays of a check cover those that are not
-        // air: the vacuum and air shells a transport model wraps around
-        // its detector would leave a grid too coarse to meet it (regions
-        // wholly outside the box are listed as such in the report). Each
-        // box takes in the universe's cavity when that is near it, so that
-        // holes between the model and its black hole are found; a far one
-        // is left out, as a grid over it could meet nothing smaller than
-        // its spacing.
-        let outside: Vec<bool> = scene.regions.iter().map(|r| r.outside).collect();
-        let air = |r: usize| scene.regions.get(r).is_some_and(|p| p.air != 0);
-        let union_of = |keep: &dyn Fn(usize) -> bool| {
-            region_bounds
-                .iter()
-                .enumerate()
-                .filter(|&(r, b)| keep(r) && b.is_finite() && !b.is_empty())
-                .fold(Aabb::EMPTY, |acc, (_, b)| acc.union(b))
-        };
-        let in_model = |r: usize| !outside.get(r).copied().unwrap_or(false);
-        let with_near_cavity = |b: Aabb| match &hull {
-            Some(Hull::Prepared(hull))
-                if hull.bounds().is_finite()
-                    && (b.is_empty()
-                        || hull.bounds().diagonal() <= NEAR_UNIVERSE * b.diagonal()) =>
-            {
-                b.union(&hull.bounds())
-            }
-            _ => b,
-        };
-        let model_box = union_of(&in_model);
-        let solids_box = union_of(&|r| in_model(r) && !air(r));
-        let box_ = with_near_cavity(model_box);
-        let check_box = if solids_box.is_empty() {
-            box_
-        } else {
-            with_near_cavity(solids_box)
-        };
+        let (box_, check_box) = default_boxes(scene, &region_bounds, hull.as_ref());
         Ok((
             Model {
                 prepared,

@@ -6,7 +6,7 @@ use crate::bvh::{hits, Bvh};
 use crate::hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
 use crate::prepare::Prepared;
 use crate::raster::entry_of;
-use sv_geom::boolean::push_merged;
+use sv_geom::boolean::{push_merged, Bound};
 use sv_math::{DVec3, Ray};
 
 impl Prepared {
@@ -377,15 +377,7 @@ impl Prepared {
         if hit.inside || hit.bound.body == u32::MAX {
             return -ray.dir;
         }
-        if let Some(n) = hit.bound.nested_normal() {
-            return n;
-        }
-        let n = self.shapes[hit.bound.body as usize].normal(hit.bound.face(), ray.at(hit.t));
-        if hit.bound.flip() {
-            -n
-        } else {
-            n
-        }
+        self.surface_normal(&hit.bound, ray.at(hit.t))
     }
 
     /// For a hit whose ray starts inside its region: the outward normal of
@@ -403,22 +395,30 @@ impl Prepared {
             .map(|p| p.span.a);
         match entry {
             Some(a) if a.body != u32::MAX => {
-                if let Some(n) = a.nested_normal() {
-                    return n;
-                }
                 let at = if a.t.is_finite() {
                     ray.at(a.t)
                 } else {
                     ray.origin
                 };
-                let n = self.shapes[a.body as usize].normal(a.face(), at);
-                if a.flip() {
-                    -n
-                } else {
-                    n
-                }
+                self.surface_normal(&a, at)
             }
             _ => -ray.dir,
+        }
+    }
+
+    /// Outward unit normal of the surface `bound` crosses, at point `at`
+    /// of it: carried in the bound for a nested universe's surface,
+    /// reversed for a subtracted body.
+    #[inline(always)]
+    fn surface_normal(&self, bound: &Bound, at: DVec3) -> DVec3 {
+        if let Some(n) = bound.nested_normal() {
+            return n;
+        }
+        let n = self.shapes[bound.body as usize].normal(bound.face(), at);
+        if bound.flip() {
+            -n
+        } else {
+            n
         }
     }
 }

@@ -57,6 +57,31 @@ pub struct ViewSpec {
     pub view_size: Option<f64>,
 }
 
+impl ViewSpec {
+    /// The unit vector from what is looked at toward the eye.
+    fn toward_eye(&self) -> DVec3 {
+        let (az, el) = (self.az.to_radians(), self.el.to_radians());
+        self.up.turn_z_up(DVec3::new(
+            el.cos() * az.cos(),
+            el.cos() * az.sin(),
+            el.sin(),
+        ))
+    }
+
+    /// The direction that is up on the screen: the up axis, or, looking
+    /// straight down (or up), the first horizontal axis turned toward the
+    /// azimuth.
+    fn screen_up(&self) -> DVec3 {
+        if self.el.abs() > 89.0 {
+            let az = self.az.to_radians();
+            let horizontal = self.up.turn_z_up(DVec3::new(-az.cos(), -az.sin(), 0.0));
+            horizontal.normalize_or(self.up.turn_z_up(DVec3::Y))
+        } else {
+            self.up.vector()
+        }
+    }
+}
+
 impl Default for ViewSpec {
     /// Azimuth 35°, elevation 25°, `z` up, perspective: the default view.
     fn default() -> Self {
@@ -103,20 +128,7 @@ pub fn default_camera(p: &Prepared, aspect: f64, view: &ViewSpec) -> Camera {
     let b = frame_bounds(p);
     let c = b.center();
     let r = 0.5 * b.diagonal();
-    let (az, el) = (view.az.to_radians(), view.el.to_radians());
-    let toward_eye = view.up.turn_z_up(DVec3::new(
-        el.cos() * az.cos(),
-        el.cos() * az.sin(),
-        el.sin(),
-    ));
-    let up = if view.el.abs() > 89.0 {
-        // Looking straight down (or up): the view's up is the first
-        // horizontal axis turned toward the azimuth.
-        let horizontal = view.up.turn_z_up(DVec3::new(-az.cos(), -az.sin(), 0.0));
-        horizontal.normalize_or(view.up.turn_z_up(DVec3::Y))
-    } else {
-        view.up.vector()
-    };
+    let (toward_eye, up) = (view.toward_eye(), view.screen_up());
     let (distance, lens) = if view.ortho {
         let height = view.view_size.unwrap_or(2.0 * r);
         (2.0 * r, Lens::Ortho { height })
@@ -165,16 +177,11 @@ pub fn rt_camera(scene: &Scene, p: &Prepared, width: u32, height: u32, view: &Vi
     let size = view
         .view_size
         .unwrap_or_else(|| model.diagonal() * aspect.max(1.0));
-    let (az, el) = (view.az.to_radians(), view.el.to_radians());
-    let toward_eye = view.up.turn_z_up(DVec3::new(
-        el.cos() * az.cos(),
-        el.cos() * az.sin(),
-        el.sin(),
-    ));
+    let toward_eye = view.toward_eye();
     let mut camera = Camera {
         eye: model.center() + toward_eye * (std::f64::consts::SQRT_2 * 0.5 * size),
         dir: -toward_eye,
-        up: view.up.vector(),
+        up: view.screen_up(),
         lens: Lens::Ortho {
             height: size / aspect,
         },
@@ -272,6 +279,40 @@ mod tests {
         assert!(b.diagonal() < 20.0, "{b:?}");
         let cam = default_camera(&p, 1.0, &ViewSpec::default());
         assert!(cam.eye.length() < 100.0, "{}", cam.eye);
+    }
+
+    #[test]
+    fn looking_straight_down_keeps_a_screen_up() {
+        // At elevation ±90° the up axis lies along the view; both the
+        // default and rt's camera turn to the azimuth's horizontal axis.
+        let mut g = Geometry::default();
+        g.bodies
+            .push(Body::new("b", BodyKind::Sph, vec![0.0, 0.0, 0.0, 1.0]));
+        g.regions.push(Region::of_body("r", 0));
+        let scene = Scene {
+            geometry: g,
+            ..Scene::default()
+        };
+        let p = Prepared::new(&scene.geometry, &PrepareOptions::default())
+            .unwrap()
+            .0;
+        for el in [90.0, -90.0] {
+            let view = ViewSpec {
+                el,
+                ..ViewSpec::default()
+            };
+            for cam in [
+                default_camera(&p, 1.0, &view),
+                rt_camera(&scene, &p, 64, 64, &view),
+            ] {
+                let (right, up, _) = cam.basis();
+                assert!(right.is_finite() && up.is_finite(), "{el}: {cam:?}");
+                assert!(
+                    cam.up.dot(cam.dir.normalize()).abs() < 1e-9,
+                    "{el}: {cam:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -318,6 +318,22 @@ fn report(
     model.container_seen(&mut seen);
     let sorted = sort_findings(model, findings, opts.strict_air);
     let checked_box = plan.checked_box;
+    // Regions no ray met, beyond the model (black holes) aside: those the
+    // box reaches were missed, the others were not looked at.
+    let (unseen, beyond_box): (Vec<usize>, Vec<usize>) = (0..model.names.len())
+        .filter(|&region| !seen[region] && !model.outside.get(region).copied().unwrap_or(false))
+        .partition(|&region| {
+            !model.region_bounds[region]
+                .intersection(&checked_box)
+                .is_empty()
+        });
+    let names = |regions: Vec<usize>| -> Vec<String> {
+        regions
+            .into_iter()
+            .map(|r| model.names[r].clone())
+            .collect()
+    };
+    let (unseen, beyond_box) = (names(unseen), names(beyond_box));
     Report {
         unit: model.unit.clone(),
         regions: model.names.len(),
@@ -334,27 +350,8 @@ fn report(
         air_overlaps: sorted.air_overlaps,
         voids: sorted.voids,
         outside: sorted.outside,
-        // Regions beyond the model (black holes) are not the point.
-        unseen: (0..model.names.len())
-            .filter(|&region| {
-                !seen[region]
-                    && !model.outside.get(region).copied().unwrap_or(false)
-                    && !model.region_bounds[region]
-                        .intersection(&checked_box)
-                        .is_empty()
-            })
-            .map(|region| model.names[region].clone())
-            .collect(),
-        beyond_box: (0..model.names.len())
-            .filter(|&region| {
-                !seen[region]
-                    && !model.outside.get(region).copied().unwrap_or(false)
-                    && model.region_bounds[region]
-                        .intersection(&checked_box)
-                        .is_empty()
-            })
-            .map(|region| model.names[region].clone())
-            .collect(),
+        unseen,
+        beyond_box,
         seconds: start.elapsed().as_secs_f64(),
     }
 }

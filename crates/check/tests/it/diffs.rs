@@ -136,13 +136,17 @@ fn judge(case: &str, report: &DiffReport) -> Result<(), String> {
     }
 }
 
-#[test]
-fn every_mcnp_and_openmc_pair_agrees_or_shows_its_real_difference() {
+/// Every pair of the benchmark in `folder` (relative to the shared
+/// mcnp-openmc root) agrees or shows its real difference.
+fn check_benchmark(folder: &str) {
     let Some(root) = sv_testdata::shared_decks("mcnp-openmc") else {
         return;
     };
-    let pairs = pairs(&root);
-    assert!(pairs.len() >= 60, "only {} pairs found", pairs.len());
+    let pairs: Vec<_> = pairs(&root)
+        .into_iter()
+        .filter(|(case, _, _)| case.starts_with(&format!("{folder}/")))
+        .collect();
+    assert!(!pairs.is_empty(), "no MCNP/OpenMC pair under {folder}");
     let mut failures = Vec::new();
     for (case, mcnp, openmc) in &pairs {
         let region = match expectation(case) {
@@ -156,6 +160,74 @@ fn every_mcnp_and_openmc_pair_agrees_or_shows_its_real_difference() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// One named test per benchmark, and the list of their folders.
+macro_rules! benchmark_tests {
+    ($($name:ident => $folder:literal,)*) => {
+        $(
+            #[test]
+            fn $name() {
+                check_benchmark($folder);
+            }
+        )*
+        const BENCHMARK_FOLDERS: &[&str] = &[$($folder),*];
+    };
+}
+
+benchmark_tests! {
+    heu_comp_inter_003 => "icsbep/heu-comp-inter-003",
+    heu_met_fast_003 => "icsbep/heu-met-fast-003",
+    heu_met_fast_008 => "icsbep/heu-met-fast-008",
+    heu_met_fast_011 => "icsbep/heu-met-fast-011",
+    heu_met_fast_013 => "icsbep/heu-met-fast-013",
+    heu_met_fast_015 => "icsbep/heu-met-fast-015",
+    heu_met_fast_019 => "icsbep/heu-met-fast-019",
+    heu_met_fast_021 => "icsbep/heu-met-fast-021",
+    heu_met_inter_006 => "icsbep/heu-met-inter-006",
+    heu_sol_therm_032 => "icsbep/heu-sol-therm-032",
+    ieu_met_fast_002 => "icsbep/ieu-met-fast-002",
+    ieu_met_fast_004 => "icsbep/ieu-met-fast-004",
+    ieu_met_fast_006 => "icsbep/ieu-met-fast-006",
+    leu_comp_therm_008 => "icsbep/leu-comp-therm-008",
+    leu_sol_therm_002 => "icsbep/leu-sol-therm-002",
+    mix_met_fast_003 => "icsbep/mix-met-fast-003",
+    pu_comp_inter_001 => "icsbep/pu-comp-inter-001",
+    pu_met_fast_002 => "icsbep/pu-met-fast-002",
+    pu_met_fast_003 => "icsbep/pu-met-fast-003",
+    pu_met_fast_005 => "icsbep/pu-met-fast-005",
+    pu_met_fast_008 => "icsbep/pu-met-fast-008",
+    pu_met_fast_010 => "icsbep/pu-met-fast-010",
+    pu_met_fast_018 => "icsbep/pu-met-fast-018",
+    pu_met_fast_020 => "icsbep/pu-met-fast-020",
+    pu_met_fast_022 => "icsbep/pu-met-fast-022",
+    pu_met_fast_024 => "icsbep/pu-met-fast-024",
+    pu_met_fast_026 => "icsbep/pu-met-fast-026",
+    pu_sol_therm_011 => "icsbep/pu-sol-therm-011",
+    pu_sol_therm_021 => "icsbep/pu-sol-therm-021",
+    u233_comp_therm_001 => "icsbep/u233-comp-therm-001",
+    u233_met_fast_002 => "icsbep/u233-met-fast-002",
+    u233_met_fast_004 => "icsbep/u233-met-fast-004",
+    u233_met_fast_006 => "icsbep/u233-met-fast-006",
+    u233_sol_therm_001 => "icsbep/u233-sol-therm-001",
+    indc_usa_107 => "indc-usa-107",
+}
+
+#[test]
+fn every_benchmark_with_pairs_has_its_test() {
+    let Some(root) = sv_testdata::shared_decks("mcnp-openmc") else {
+        return;
+    };
+    let pairs = pairs(&root);
+    assert!(pairs.len() >= 60, "only {} pairs found", pairs.len());
+    for (case, _, _) in &pairs {
+        assert!(
+            BENCHMARK_FOLDERS
+                .iter()
+                .any(|folder| case.starts_with(&format!("{folder}/"))),
+            "{case} has no test: add its benchmark to benchmark_tests!"
+        );
+    }
 }
 
 #[test]

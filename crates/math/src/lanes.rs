@@ -29,6 +29,16 @@ pub fn dot<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> S::F {
     )
 }
 
+/// `a × b` as glam computes it.
+#[inline(always)]
+pub fn cross<S: Simd>(s: S, a: [S::F; 3], b: [S::F; 3]) -> [S::F; 3] {
+    [
+        s.sub(s.mul(a[1], b[2]), s.mul(b[1], a[2])),
+        s.sub(s.mul(a[2], b[0]), s.mul(b[2], a[0])),
+        s.sub(s.mul(a[0], b[1]), s.mul(b[0], a[1])),
+    ]
+}
+
 /// `m v` as glam computes it: the columns scaled by `v`'s coordinates and
 /// added left to right.
 #[inline(always)]

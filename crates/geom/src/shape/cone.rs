@@ -226,6 +226,7 @@ impl Cone {
             f0: s.select(n0, lat, f0),
             f1: s.select(n1, lat, f1),
             hit: s.andnot(s.lt(t0, t1), miss),
+            scalar: s.none(),
         }
     }
 

@@ -81,6 +81,7 @@ impl Ellipsoid {
             f0: zero,
             f1: zero,
             hit: not(s, s.or(s.eq(dd, zero), s.lt(disc, zero))),
+            scalar: s.none(),
         }
     }
 

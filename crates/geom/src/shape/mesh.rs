@@ -1,6 +1,8 @@
-use super::Seg;
+use super::{Seg, SegLanes};
 use crate::body::Warning;
 use crate::Body;
+use sv_math::lanes::{cross, dot, not, splat3, sub_point, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
 
 #[derive(Clone, Debug)]
@@ -61,11 +63,11 @@ impl Mesh {
     }
 
     /// Append the segments of the ray inside the body to `out` (see
-    /// [`super::Shape::shoot`]).
+    /// [`super::Shape::shoot`]). Every triangle is tried: the callers have
+    /// tested the ray against the mesh's box, and a second box test here
+    /// would be one the lane form ([`Mesh::shoot_lanes`]) must repeat
+    /// operation for operation.
     pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
-        if self.bounds.ray_range(ray).is_none() {
-            return;
-        }
         // Collect crossings in the tail of `out` to avoid an allocation.
         let base = out.len();
         for (i, tri) in self.tris.iter().enumerate() {
@@ -118,9 +120,75 @@ impl Mesh {
         out.truncate(base + pairs);
     }
 
+    /// [`Mesh::shoot`] in every lane, operation for operation, for the
+    /// lanes whose ray crosses the surface twice (after merging crossings
+    /// through a shared edge): their one segment. A lane with more
+    /// crossings, or one that is not a finite number, is marked `scalar`.
+    ///
+    /// The sorted, merged crossings are found without sorting: the first
+    /// is the nearest (the lowest triangle among equal distances, as the
+    /// stable sort keeps it), the second the nearest farther than `eps`
+    /// beyond it, and there is a third exactly when the farthest lies more
+    /// than `eps` beyond the second.
+    #[inline(always)]
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let (zero, inf, eps) = (s.splat(0.0), s.splat(f64::INFINITY), s.splat(self.eps));
+        let (mut t0, mut f0, mut farthest) = (inf, zero, s.neg(inf));
+        let mut not_finite = s.none();
+        for (i, tri) in self.tris.iter().enumerate() {
+            let (t, hit) = crossing_lanes(s, tri, r);
+            if !s.any(hit) {
+                continue;
+            }
+            // `t - t` is zero for a finite `t`, not a number otherwise.
+            not_finite = s.or(not_finite, s.andnot(hit, s.eq(s.sub(t, t), zero)));
+            let nearer = s.and(hit, s.lt(t, t0));
+            t0 = s.select(nearer, t, t0);
+            f0 = s.select(nearer, s.splat(i as f64), f0);
+            farthest = s.select(s.and(hit, s.gt(t, farthest)), t, farthest);
+        }
+        let (mut t1, mut f1) = (inf, zero);
+        let beyond_first = s.andnot(s.gt(s.sub(farthest, t0), eps), not_finite);
+        if s.any(beyond_first) {
+            for (i, tri) in self.tris.iter().enumerate() {
+                let (t, hit) = crossing_lanes(s, tri, r);
+                let next = s.and(
+                    s.and(hit, beyond_first),
+                    s.and(s.gt(s.sub(t, t0), eps), s.lt(t, t1)),
+                );
+                t1 = s.select(next, t, t1);
+                f1 = s.select(next, s.splat(i as f64), f1);
+            }
+        }
+        let two = s.lt(t1, inf);
+        let scalar = s.or(not_finite, s.and(two, s.gt(s.sub(farthest, t1), eps)));
+        SegLanes {
+            t0,
+            t1,
+            f0,
+            f1,
+            hit: s.andnot(two, scalar),
+            scalar,
+        }
+    }
+
     /// Outward unit normal at a point of the surface.
     pub fn normal(&self, face: u32) -> DVec3 {
         self.tris[face as usize].n
+    }
+
+    /// [`Mesh::normal`] in every lane, of faces `face` (as `f64`).
+    #[inline(always)]
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F) -> [S::F; 3] {
+        let mut faces = [0.0; MAX_LANES];
+        s.store(face, &mut faces);
+        let mut n = [[0.0; MAX_LANES]; 3];
+        for (j, &f) in faces.iter().enumerate().take(S::LANES) {
+            // Lanes on other bodies carry their faces: any number.
+            let normal = self.tris.get(f as usize).map_or(DVec3::ZERO, |tri| tri.n);
+            (n[0][j], n[1][j], n[2][j]) = (normal.x, normal.y, normal.z);
+        }
+        n.map(|c| s.load(&c))
     }
 
     /// True when `p` is strictly inside.
@@ -142,6 +210,27 @@ impl Mesh {
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
+}
+
+/// A ray's crossing of triangle `tri` in every lane, as [`Mesh::shoot`]
+/// computes it (Möller–Trumbore, the same operations in the same order):
+/// its distance, and the lanes that cross.
+#[inline(always)]
+fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> (S::F, S::M) {
+    let (e1, e2) = (splat3(s, tri.e1), splat3(s, tri.e2));
+    let (zero, one) = (s.splat(0.0), s.splat(1.0));
+    let p = cross(s, r.d, e2);
+    let det = dot(s, e1, p);
+    let inv = s.div(one, det);
+    let from_corner = sub_point(s, r.o, tri.v0);
+    let u = s.mul(dot(s, from_corner, p), inv);
+    let q = cross(s, from_corner, e1);
+    let v = s.mul(dot(s, r.d, q), inv);
+    let flat = s.lt(s.abs(det), s.splat(1e-300));
+    let outside_u = not(s, s.and(s.ge(u, zero), s.le(u, one)));
+    let outside_v = s.or(s.lt(v, zero), s.gt(s.add(u, v), one));
+    let hit = not(s, s.or(s.or(flat, outside_u), outside_v));
+    (s.mul(dot(s, e2, q), inv), hit)
 }
 
 /// ARS: curves of points joined into a closed faceted surface.

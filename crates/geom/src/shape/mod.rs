@@ -193,8 +193,10 @@ impl Shape {
     }
 }
 
-/// A convex body's segment along each lane's ray, in the lanes of `hit`:
-/// entry and exit, and the faces crossed there (small integers in `f64`).
+/// A body's segment along each lane's ray, in the lanes of `hit`: entry
+/// and exit, and the faces crossed there (small integers in `f64`). A lane
+/// of `scalar` is one whose answer the lanes cannot give (a faceted solid
+/// crossed more than twice): the caller leaves it to the scalar code.
 pub struct SegLanes<S: Simd> {
     /// Entry.
     pub t0: S::F,
@@ -206,6 +208,8 @@ pub struct SegLanes<S: Simd> {
     pub f1: S::F,
     /// The lanes whose ray meets the body.
     pub hit: S::M,
+    /// The lanes left to [`Shape::shoot`] (never in `hit`).
+    pub scalar: S::M,
 }
 
 impl Shape {
@@ -218,6 +222,7 @@ impl Shape {
                 | Shape::Cone(_)
                 | Shape::Rpp(_)
                 | Shape::Polyhedron(_)
+                | Shape::Mesh(_)
         )
     }
 
@@ -231,13 +236,15 @@ impl Shape {
             Shape::Cone(b) => b.normal_lanes(s, face, p),
             Shape::Rpp(b) => b.normal_lanes(s, face),
             Shape::Polyhedron(b) => b.normal_lanes(s, face),
+            Shape::Mesh(b) => b.normal_lanes(s, face),
             _ => unreachable!("normals in lanes asked of a shape without them"),
         }
     }
 
     /// [`Shape::shoot`] for every lane, for the shapes of
-    /// [`Shape::has_lanes`] only (convex: one segment at most); the callers
-    /// leave the others to the scalar code.
+    /// [`Shape::has_lanes`] only (one segment at most: the lanes whose ray
+    /// a faceted solid would give more are marked `scalar`); the callers
+    /// leave the other shapes to the scalar code.
     #[inline(always)]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         match self {
@@ -246,6 +253,7 @@ impl Shape {
             Shape::Cone(b) => b.shoot_lanes(s, r),
             Shape::Rpp(b) => b.shoot_lanes(s, r),
             Shape::Polyhedron(b) => b.shoot_lanes(s, r),
+            Shape::Mesh(b) => b.shoot_lanes(s, r),
             _ => unreachable!("lanes asked to cast a shape they cannot"),
         }
     }

@@ -102,6 +102,7 @@ impl Polyhedron {
             f0,
             f1,
             hit: s.andnot(s.lt(t0, t1), miss),
+            scalar: s.none(),
         }
     }
 

@@ -78,6 +78,7 @@ impl Rpp {
             f0,
             f1,
             hit: s.andnot(s.lt(t0, t1), miss),
+            scalar: s.none(),
         }
     }
 

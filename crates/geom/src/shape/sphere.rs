@@ -69,6 +69,7 @@ impl Sphere {
             f0: zero,
             f1: zero,
             hit: not(s, s.lt(disc, zero)),
+            scalar: s.none(),
         }
     }
 

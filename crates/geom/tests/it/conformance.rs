@@ -164,11 +164,11 @@ pub fn samples() -> Vec<Body> {
     ]
 }
 
-fn prepare_one(b: &Body) -> (Shape, Aabb) {
+pub fn prepare_one(b: &Body) -> (Shape, Aabb) {
     sv_geom::prepare(b, &mut Vec::new()).expect("sample body prepares")
 }
 
-fn random_ray(rng: &mut Pcg64, bb: Aabb) -> Ray {
+pub fn random_ray(rng: &mut Pcg64, bb: Aabb) -> Ray {
     let (lo, hi) = if bb.is_finite() {
         (bb.min, bb.max)
     } else {

@@ -1,2 +1,3 @@
 //! Integration tests of the bodies.
 mod conformance;
+mod lanes;

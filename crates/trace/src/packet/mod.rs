@@ -505,7 +505,7 @@ impl Prepared {
     /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
     /// zone of [`PreparedZone::lanes`]: the span, the lanes that have one, and the
     /// lanes left to the scalar code (where the `-` bodies would leave more
-    /// than two spans). Each step is [`Prepared::convex_spans`]' for one span
+    /// than two spans, or a faceted body more than one segment). Each step is [`Prepared::convex_spans`]' for one span
     /// and one segment, or the lists' for two spans and one segment.
     #[inline(always)]
     fn zone_lanes<S: Simd>(
@@ -522,6 +522,8 @@ impl Prepared {
         let (plus, minus) = terms.split_at(z.plus as usize);
         let tol = s.splat(self.tol);
         let mut alive = m;
+        // The lanes left to the scalar code.
+        let mut more = s.none();
         let mut cur: Option<SpanLanes<S>> = None;
         for &b in plus {
             // A lone `+` body has the zone's bounds, which the rays meet.
@@ -531,6 +533,7 @@ impl Prepared {
                 alive = s.and(alive, box_lanes(s, bounds, r, s.neg(inf), inf));
             }
             let g = self.shapes[b as usize].shoot_lanes(s, r);
+            more = s.or(more, s.and(alive, g.scalar));
             alive = s.and(alive, g.hit);
             let q = span(s, &g, b);
             cur = Some(match cur {
@@ -555,11 +558,11 @@ impl Prepared {
                 body: lo,
                 face: lo,
             };
-            return (SpanLanes { a: z0, b: z0 }, s.none(), s.none());
+            return (SpanLanes { a: z0, b: z0 }, s.none(), more);
         };
         // A lane may hold two spans, as the lists would: `cur`, and `next`
         // in the lanes of `two`. A third goes to the scalar code.
-        let (mut two, mut next, mut more) = (s.none(), cur, s.none());
+        let (mut two, mut next) = (s.none(), cur);
         for &b in minus {
             // The reach of the lane's spans, as the lists see it.
             let last = s.select(two, next.b.t, cur.b.t);
@@ -582,6 +585,14 @@ impl Prepared {
                 continue;
             }
             let g = shape.shoot_lanes(s, r);
+            let scalar = s.and(mm, g.scalar);
+            if s.any(scalar) {
+                more = s.or(more, scalar);
+                alive = s.andnot(alive, scalar);
+                if !s.any(alive) {
+                    break;
+                }
+            }
             // The segment reaches past the spans' start and begins before
             // their end.
             let mm = s.andnot(

@@ -19,10 +19,10 @@ use sv_math::{DVec3, RayGen};
 pub(super) fn bodies(rng: &mut impl Rng) -> Vec<Body> {
     let mut out = Vec::new();
     let v = |r: &mut dyn FnMut() -> f64| [r(), r(), r()];
-    for i in 0..48 {
+    for i in 0..54 {
         let mut u = || rng.gen_range(-1.0..1.0);
         let p = v(&mut u);
-        let (kind, params): (BodyKind, Vec<f64>) = match i % 16 {
+        let (kind, params): (BodyKind, Vec<f64>) = match i % 18 {
             0 => (BodyKind::Sph, vec![p[0], p[1], p[2], 0.3 + 0.5 * u().abs()]),
             1 => (
                 BodyKind::Rcc,
@@ -101,6 +101,8 @@ pub(super) fn bodies(rng: &mut impl Rng) -> Vec<Body> {
                 ]
                 .concat(),
             ),
+            16 => (BodyKind::Ars, bipyramid(DVec3::from(p), 0.5)),
+            17 => (BodyKind::Ars, star_spindle(DVec3::from(p), 0.6)),
             _ => (
                 BodyKind::Rec,
                 [
@@ -115,6 +117,42 @@ pub(super) fn bodies(rng: &mut impl Rng) -> Vec<Body> {
     out
 }
 
+/// An ARS's parameters from its curves (each of the same number of
+/// points).
+fn ars(curves: &[Vec<DVec3>]) -> Vec<f64> {
+    let mut params = vec![curves.len() as f64, curves[0].len() as f64];
+    params.extend(curves.iter().flatten().flat_map(|q| q.to_array()));
+    params
+}
+
+/// A convex ARS: a triangle between two apexes (curves of one point
+/// repeated), as the COMGEOM test deck has.
+fn bipyramid(c: DVec3, r: f64) -> Vec<f64> {
+    let apex = |z: f64| vec![c + DVec3::new(0.0, 0.0, z); 3];
+    let ring = vec![
+        c + DVec3::new(-r, -r, 0.0),
+        c + DVec3::new(r, -r, 0.1 * r),
+        c + DVec3::new(r, r, -0.1 * r),
+    ];
+    ars(&[apex(-1.5 * r), ring, apex(2.0 * r)])
+}
+
+/// A non-convex ARS: two six-pointed stars, one narrower, between two
+/// apexes (rays cross it four times or more).
+fn star_spindle(c: DVec3, r: f64) -> Vec<f64> {
+    let star = |z: f64, scale: f64| -> Vec<DVec3> {
+        (0..6)
+            .map(|k| {
+                let angle = k as f64 * std::f64::consts::FRAC_PI_3;
+                let radius = if k % 2 == 0 { r } else { 0.35 * r } * scale;
+                c + DVec3::new(radius * angle.cos(), radius * angle.sin(), z)
+            })
+            .collect()
+    };
+    let apex = |z: f64| vec![c + DVec3::new(0.0, 0.0, z); 6];
+    ars(&[apex(-r), star(-0.3 * r, 1.0), star(0.3 * r, 0.6), apex(r)])
+}
+
 /// Zones of random bodies, or zones made to sit on the tolerances
 /// (apart, so that the random ones do not hide them; `only` one of them,
 /// so that none hides another): `+` and `-` bodies flush with each other,
@@ -126,7 +164,7 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
         ..Default::default()
     };
     let n = g.bodies.len();
-    let edge: [(BodyKind, Vec<f64>); 12] = [
+    let edge: [(BodyKind, Vec<f64>); 14] = [
         (BodyKind::Rpp, vec![0.5, 1.5, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Rpp, vec![-0.5, 0.0, -0.5, 0.5, -0.5, 0.5]),
         (BodyKind::Trc, vec![0.0, 0.0, -1.0, 0.0, 0.0, 2.0, 0.6, 0.2]),
@@ -158,12 +196,31 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
                 -1.0, 0.1, 0.0, 2.0, 0.0, 0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.2, 0.1, 0.3,
             ],
         ),
+        // Faceted solids flush with the cube: an L-shaped prism (not
+        // convex), and a star less the cube.
+        (
+            BodyKind::Ars,
+            ars(&[-0.5, 0.5].map(|z| {
+                [
+                    (-0.5, -0.5),
+                    (0.5, -0.5),
+                    (0.5, 0.0),
+                    (0.0, 0.0),
+                    (0.0, 0.5),
+                    (-0.5, 0.5),
+                ]
+                .map(|(x, y)| DVec3::new(x, y, z))
+                .to_vec()
+            })),
+        ),
+        (BodyKind::Ars, star_spindle(DVec3::new(0.3, 0.0, 0.5), 0.7)),
     ];
     for (i, (kind, params)) in edge.into_iter().enumerate() {
         g.bodies.push(Body::new(format!("e{i}"), kind, params));
     }
     let (cube, flush, half, cone, cup, cyl, ball) = (5, n, n + 1, n + 2, n + 3, n + 4, n + 5);
     let (low, high, slab, slab2, ring, tgc) = (n + 6, n + 7, n + 8, n + 9, n + 10, n + 11);
+    let (ell, star) = (n + 12, n + 13);
     let zone = |plus: &[usize], minus: &[usize]| {
         Zone::new(
             plus.iter()
@@ -202,6 +259,12 @@ pub(super) fn geometry(rng: &mut impl Rng, made_only: bool, only: Option<usize>)
         zone(&[cube], &[ring]),
         zone(&[ball], &[tgc]),
         zone(&[cube], &[slab, ring]),
+        zone(&[ell], &[]),
+        zone(&[cube], &[ell]),
+        zone(&[cube, ell], &[slab]),
+        zone(&[star], &[cube]),
+        zone(&[cube], &[star, ball]),
+        zone(&[ball, star], &[]),
         // Groups: the cube less the union of the ball and the slab; the
         // ball and the cube's low half, whichever is nearer.
         Zone {

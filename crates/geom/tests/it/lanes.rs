@@ -1,0 +1,143 @@
+//! The lane form of the faceted solid (ARS) against its scalar form, ray by
+//! ray and bit for bit: random rays, and rays aimed exactly at its corners
+//! and along its edges' midpoints, where crossings of neighbouring
+//! triangles tie or merge.
+
+use crate::conformance::{prepare_one, random_ray, samples};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+use sv_geom::shape::{Seg, Shape};
+use sv_geom::{ars_triangles, Body, BodyKind};
+use sv_math::lanes::Lanes;
+use sv_math::simd::{Portable, Simd};
+use sv_math::{DVec3, Ray};
+
+/// ARS parameters from closed curves of equal length.
+fn ars(curves: &[Vec<DVec3>]) -> Body {
+    let mut params = vec![curves.len() as f64, curves[0].len() as f64];
+    params.extend(curves.iter().flatten().flat_map(|q| q.to_array()));
+    Body::new("ars", BodyKind::Ars, params)
+}
+
+/// The sample ARS (a convex bipyramid), an L-shaped prism and a star
+/// spindle (neither convex).
+fn meshes() -> Vec<Body> {
+    let mut out: Vec<Body> = samples()
+        .into_iter()
+        .filter(|b| b.kind == BodyKind::Ars)
+        .collect();
+    let l_shape = [
+        (-1.0, -1.0),
+        (1.0, -1.0),
+        (1.0, 0.0),
+        (0.0, 0.0),
+        (0.0, 1.0),
+        (-1.0, 1.0),
+    ];
+    out.push(ars(
+        &[-1.0, 1.0].map(|z| l_shape.map(|(x, y)| DVec3::new(x, y, z)).to_vec())
+    ));
+    let star = |z: f64, scale: f64| -> Vec<DVec3> {
+        (0..6)
+            .map(|k| {
+                let angle = k as f64 * std::f64::consts::FRAC_PI_3;
+                let radius = if k % 2 == 0 { 1.0 } else { 0.35 } * scale;
+                DVec3::new(radius * angle.cos(), radius * angle.sin(), z)
+            })
+            .collect()
+    };
+    let apex = |z: f64| vec![DVec3::new(0.0, 0.0, z); 6];
+    out.push(ars(&[
+        apex(-1.0),
+        star(-0.3, 1.0),
+        star(0.3, 0.6),
+        apex(1.0),
+    ]));
+    out
+}
+
+/// Rays at the mesh: random ones, and from random points (and along the
+/// axes) exactly through each corner and each edge's midpoint.
+fn rays(body: &Body, rng: &mut Pcg64) -> Vec<Ray> {
+    let (shape, bounds) = prepare_one(body);
+    assert!(matches!(shape, Shape::Mesh(_)));
+    let mut out: Vec<Ray> = (0..2000).map(|_| random_ray(rng, bounds)).collect();
+    let reach = bounds.diagonal() * 2.0;
+    for [a, b, c] in ars_triangles(body) {
+        for target in [a, b, c, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5] {
+            let dir = DVec3::new(
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+            )
+            .normalize();
+            out.push(Ray::new(target - dir * reach, dir));
+            for axis in [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z] {
+                out.push(Ray::new(target - axis * reach, axis));
+            }
+        }
+    }
+    out
+}
+
+/// Checks each lane of `Mesh::shoot_lanes` for `rays` against the scalar
+/// segments: a lane left to the scalar code only where it must or may be,
+/// a lane's segment equal bit for bit to the scalar one; the number of
+/// lanes with a segment.
+fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
+    let s = Portable::<P>;
+    let mut with_segment = 0;
+    for chunk in rays.chunks(P) {
+        let ray = |j: usize| chunk[j.min(chunk.len() - 1)];
+        let lanes = Lanes::<Portable<P>> {
+            o: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).origin[c])),
+            d: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).dir[c])),
+            inv: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).inv_dir[c])),
+        };
+        let got = shape.shoot_lanes(s, &lanes);
+        let (hit, scalar) = (s.bits(got.hit), s.bits(got.scalar));
+        for (j, r) in chunk.iter().enumerate() {
+            let mut segs: Vec<Seg> = Vec::new();
+            shape.shoot(r, &mut segs);
+            let why = format!("ray {r:?}: scalar {segs:?}");
+            assert_eq!(
+                hit & scalar & (1 << j),
+                0,
+                "{why}: a lane both hit and left"
+            );
+            if scalar & (1 << j) != 0 {
+                continue;
+            }
+            assert!(
+                segs.len() <= 1,
+                "{why}: more than one segment, in the lanes"
+            );
+            assert_eq!(hit & (1 << j) != 0, segs.len() == 1, "{why}: hit or not");
+            if let [seg] = segs[..] {
+                let lane = (got.t0[j], got.t1[j], got.f0[j], got.f1[j]);
+                let want = (seg.t0, seg.t1, f64::from(seg.f0), f64::from(seg.f1));
+                assert_eq!(lane.0.to_bits(), want.0.to_bits(), "{why}: entry");
+                assert_eq!(lane.1.to_bits(), want.1.to_bits(), "{why}: exit");
+                assert_eq!((lane.2, lane.3), (want.2, want.3), "{why}: faces");
+                with_segment += 1;
+            }
+        }
+    }
+    with_segment
+}
+
+#[test]
+fn faceted_solids_in_lanes_agree_with_the_scalar_code() {
+    let mut rng = Pcg64::seed_from_u64(1971);
+    for body in meshes() {
+        let rays = rays(&body, &mut rng);
+        let shape = prepare_one(&body).0;
+        let (four, eight) = (agree::<4>(&shape, &rays), agree::<8>(&shape, &rays));
+        assert_eq!(four, eight);
+        assert!(
+            four > rays.len() / 10,
+            "{four} of {} rays met it",
+            rays.len()
+        );
+    }
+}

@@ -383,6 +383,18 @@ impl Renderer {
                 rgb[start..start + tw].copy_from_slice(&plan.bg_row[..tw]);
                 alpha[start..start + tw].fill(0.0);
             }
+            if self.shading == Shading::RtEyeLight {
+                // A grey, one value: the colour array of `intensity`
+                // would be read back whole from the stack it was just
+                // stored to, which stalls.
+                for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
+                    let k = *k as usize;
+                    let grey = self.rt_grey(&ws.hit_rays[h], hit, normal, &mut ws.scratch) as f32;
+                    rgb[k / tw * w + x0 + k % tw] = [grey; 3];
+                    alpha[k / tw * w + x0 + k % tw] = 1.0;
+                }
+                return;
+            }
             for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
                 let k = *k as usize;
                 let i = k / tw * w + x0 + k % tw;

@@ -40,6 +40,20 @@ impl Renderer {
         self.intensity(ray, (0, hit), n, shadows, &mut Occluders::default(), s)
     }
 
+    /// [`Shading::RtEyeLight`]'s grey at `hit` (seen along `ray`, surface
+    /// normal `n`).
+    #[inline(always)]
+    pub(crate) fn rt_grey(&self, ray: &Ray, hit: &Hit, n: DVec3, s: &mut Scratch) -> f64 {
+        // The cosine in each branch: a normal chosen first and read back
+        // whole from the stack stalls on the store of its parts.
+        let cos = if hit.inside {
+            -self.prepared().normal_behind(hit, ray, s).dot(ray.dir)
+        } else {
+            -n.dot(ray.dir)
+        };
+        RT_AMBIENT + (1.0 - RT_AMBIENT) * cos.max(0.0)
+    }
+
     /// The paper's shading of `hit` (the tile's hit number `h`, seen along
     /// `ray`, surface normal `n`), its shadow rays asked of `occluders`.
     /// Inlined into both pixel loops of the tile: called through a function
@@ -55,13 +69,7 @@ impl Renderer {
         s: &mut Scratch,
     ) -> [f64; 3] {
         if self.shading == Shading::RtEyeLight {
-            let n = if hit.inside {
-                self.prepared().normal_behind(hit, ray, s)
-            } else {
-                n
-            };
-            let cos = -n.dot(ray.dir);
-            return [RT_AMBIENT + (1.0 - RT_AMBIENT) * cos.max(0.0); 3];
+            return [self.rt_grey(ray, hit, n, s); 3];
         }
         let p = ray.at(hit.t);
         let (k, colour) = self.looks[hit.region as usize];

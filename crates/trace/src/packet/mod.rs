@@ -279,13 +279,19 @@ impl<S: Simd> NearestHit<S> {
             if hit & (1 << j) == 0 {
                 continue;
             }
-            normals[n] = if in_lanes & (1 << j) != 0 {
+            // Written a coordinate at a time: a normal gathered on the
+            // stack and copied whole stalls on the stores of its parts.
+            let slot = &mut normals[n];
+            if in_lanes & (1 << j) != 0 {
                 // SAFETY: written for the lanes of `in_lanes`.
-                let o = unsafe { [0, 1, 2].map(|c| out[c].assume_init_ref().0[j]) };
-                DVec3::new(o[0], o[1], o[2])
+                unsafe {
+                    slot.x = out[0].assume_init_ref().0[j];
+                    slot.y = out[1].assume_init_ref().0[j];
+                    slot.z = out[2].assume_init_ref().0[j];
+                }
             } else {
-                p.normal(&hits[n].1, ray)
-            };
+                *slot = p.normal(&hits[n].1, ray);
+            }
             n += 1;
         }
         debug_assert_eq!(one_by_one | in_lanes, hit);

@@ -7,6 +7,7 @@
 //! Every pixel is computed independently from its own rays, so a picture is
 //! bit-for-bit the same whatever the number of threads.
 
+use crate::shading::rt_grey;
 use crate::tiles::{Bins, TILE};
 use crate::workspace::{Workers, Workspace};
 use crate::{default_camera, default_lights, Frame, Settings, Shading, ViewSpec};
@@ -17,6 +18,7 @@ use sv_math::Ray;
 use sv_scene::{Background, Camera, Light, LightKind, RayGen, Scene};
 use sv_trace::{
     Hit, LightAt, PrepareError, PrepareOptions, Prepared, Scratch, ShadowBuffers, Tile, Warning,
+    FACING_MISS,
 };
 
 /// A scene ready to render: prepared geometry, camera, lights and looks.
@@ -273,7 +275,8 @@ impl Renderer {
                 y1: y0 + rows,
             };
             let found = self.trace_tile(plan, index, tile, ws);
-            if plan.settings.shadows {
+            // rt's shading casts no shadows.
+            if plan.settings.shadows && self.shading != Shading::RtEyeLight {
                 let hits = (&ws.hits[..found], &ws.normals[..], &ws.hit_rays[..]);
                 ws.occluders
                     .prepare_tile(&self.prepared, &plan.lights, hits, &mut ws.scratch);
@@ -305,6 +308,13 @@ impl Renderer {
             return 0;
         }
         let inf = f64::INFINITY;
+        if plan.samples == 1 && self.shading == Shading::RtEyeLight {
+            // rt's grey needs no more of a hit than how it faces its ray.
+            let (gen, s) = (&plan.gen, &mut ws.scratch);
+            return self
+                .prepared
+                .tile_facing(gen, tile, zones, 0.0, inf, s, &mut ws.facing);
+        }
         if plan.samples == 1 {
             // One ray a pixel: made several at once with the hits, where
             // the processor can (only the hits' rays are kept).
@@ -369,7 +379,6 @@ impl Renderer {
         ws: &mut Workspace<'_>,
     ) {
         let (w, shadows) = (plan.width, plan.settings.shadows);
-        let hits = &ws.hits[..found];
         let (x0, x1, rows) = (tile.x0, tile.x1, tile.y1 - tile.y0);
         if plan.samples == 1 {
             // One ray a pixel: the tile filled with background, then each
@@ -384,17 +393,23 @@ impl Renderer {
                 alpha[start..start + tw].fill(0.0);
             }
             if self.shading == Shading::RtEyeLight {
+                // No hit: `facing` was not written (see `trace_tile`).
+                if found == 0 {
+                    return;
+                }
                 // A grey, one value: the colour array of `intensity`
                 // would be read back whole from the stack it was just
                 // stored to, which stalls.
-                for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
-                    let k = *k as usize;
-                    let grey = self.rt_grey(&ws.hit_rays[h], hit, normal, &mut ws.scratch) as f32;
-                    rgb[k / tw * w + x0 + k % tw] = [grey; 3];
-                    alpha[k / tw * w + x0 + k % tw] = 1.0;
+                for (k, &facing) in ws.facing[..tw * rows].iter().enumerate() {
+                    if facing != FACING_MISS {
+                        let i = k / tw * w + x0 + k % tw;
+                        rgb[i] = [rt_grey(facing) as f32; 3];
+                        alpha[i] = 1.0;
+                    }
                 }
                 return;
             }
+            let hits = &ws.hits[..found];
             for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
                 let k = *k as usize;
                 let i = k / tw * w + x0 + k % tw;
@@ -412,6 +427,7 @@ impl Renderer {
             }
             return;
         }
+        let hits = &ws.hits[..found];
         // The sample number of the next ray, and the next hit.
         let (mut sample, mut next) = (0, 0);
         let per_pixel = plan.samples * plan.samples;

@@ -33,25 +33,19 @@ pub enum Shading {
 /// `rt`'s ambient intensity (its `AmbientIntensity`).
 const RT_AMBIENT: f64 = 0.4;
 
+/// [`Shading::RtEyeLight`]'s grey for a surface that faces its ray by
+/// `facing` ([`sv_trace::Prepared::facing`]): `rt -l1` lights a hit from
+/// the eye over its ambient.
+#[inline(always)]
+pub(crate) fn rt_grey(facing: f64) -> f64 {
+    RT_AMBIENT + (1.0 - RT_AMBIENT) * facing
+}
+
 impl Renderer {
     /// Intensity (linear RGB) of the surface at `hit`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, shadows: bool, s: &mut Scratch) -> [f64; 3] {
         let n = self.prepared().normal(hit, ray);
         self.intensity(ray, (0, hit), n, shadows, &mut Occluders::default(), s)
-    }
-
-    /// [`Shading::RtEyeLight`]'s grey at `hit` (seen along `ray`, surface
-    /// normal `n`).
-    #[inline(always)]
-    pub(crate) fn rt_grey(&self, ray: &Ray, hit: &Hit, n: DVec3, s: &mut Scratch) -> f64 {
-        // The cosine in each branch: a normal chosen first and read back
-        // whole from the stack stalls on the store of its parts.
-        let cos = if hit.inside {
-            -self.prepared().normal_behind(hit, ray, s).dot(ray.dir)
-        } else {
-            -n.dot(ray.dir)
-        };
-        RT_AMBIENT + (1.0 - RT_AMBIENT) * cos.max(0.0)
     }
 
     /// The paper's shading of `hit` (the tile's hit number `h`, seen along
@@ -69,7 +63,7 @@ impl Renderer {
         s: &mut Scratch,
     ) -> [f64; 3] {
         if self.shading == Shading::RtEyeLight {
-            return [self.rt_grey(ray, hit, n, s); 3];
+            return [rt_grey(self.prepared().facing(hit, ray, s)); 3];
         }
         let p = ray.at(hit.t);
         let (k, colour) = self.looks[hit.region as usize];

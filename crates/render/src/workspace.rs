@@ -27,6 +27,10 @@ pub(crate) struct Workspace<'a> {
     pub(crate) hits: Vec<(u32, Hit)>,
     /// The surface normal at each hit, in the order of `hits`.
     pub(crate) normals: Vec<DVec3>,
+    /// Under rt's shading, in place of the three above: how squarely each
+    /// pixel of the tile faces its ray, or `FACING_MISS`
+    /// ([`sv_trace::Prepared::tile_facing`]).
+    pub(crate) facing: Vec<f64>,
     /// Where the tile's shadow rays look for occluders.
     pub(crate) occluders: Occluders<'a>,
 }
@@ -48,6 +52,7 @@ impl<'a> Workspace<'a> {
             hits: Vec::new(),
             hit_rays: Vec::new(),
             normals: Vec::new(),
+            facing: Vec::new(),
             occluders: Occluders::new(lights, buffers),
         }
     }

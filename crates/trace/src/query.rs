@@ -380,6 +380,22 @@ impl Prepared {
         self.surface_normal(&hit.bound, ray.at(hit.t))
     }
 
+    /// How squarely the surface at `hit` faces its ray: `max(0, −n·d)`,
+    /// where `n` is the normal BRL-CAD's `rt` shades with,
+    /// [`Prepared::normal`] or, for a ray that starts inside its region,
+    /// [`Prepared::normal_behind`]. Zero for a surface seen edge on or from
+    /// behind (and for a normal that is not a number).
+    pub fn facing(&self, hit: &Hit, ray: &Ray, s: &mut Scratch) -> f64 {
+        // The cosine in each branch: a normal chosen first and read back
+        // whole from the stack stalls on the store of its parts.
+        let cos = if hit.inside {
+            -self.normal_behind(hit, ray, s).dot(ray.dir)
+        } else {
+            -self.normal(hit, ray).dot(ray.dir)
+        };
+        cos.max(0.0)
+    }
+
     /// For a hit whose ray starts inside its region: the outward normal of
     /// the surface where the ray, followed backwards, entered that region,
     /// at the point of entry (anywhere on a plane met at −∞). BRL-CAD's

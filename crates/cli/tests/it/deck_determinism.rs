@@ -1,10 +1,11 @@
 //! The real decks render the same, bit for bit, with the acceleration
 //! structures (hierarchy, tile lists, light buffer, shadow cache) and
-//! without them, in sunlight and under a lamp, on 1 and 2 threads.
+//! without them, in sunlight and under a lamp, on 1 and 2 threads, and
+//! under rt's shading.
 
 use std::path::PathBuf;
 use sv_formats::{load_file, LoadOptions};
-use sv_render::{Frame, Renderer, Settings};
+use sv_render::{Frame, Renderer, Settings, Shading};
 use sv_scene::{Light, LightKind};
 use sv_trace::PrepareOptions;
 
@@ -102,6 +103,20 @@ fn every_deck_renders_the_same_with_and_without_acceleration() {
         assert!(
             brute == one,
             "{}: with and without acceleration, {} pixels differ",
+            f.display(),
+            differing(&one, &brute)
+        );
+        // rt's shading, traced for how each pixel faces its ray alone.
+        let rt = |r: &Renderer| {
+            let mut r = r.clone();
+            r.lights.clear();
+            r.shading = Shading::RtEyeLight;
+            render(&r, 1)
+        };
+        let (one, brute) = (rt(&fast), rt(&slow));
+        assert!(
+            brute == one,
+            "{}: rt's shading with and without acceleration, {} pixels differ",
             f.display(),
             differing(&one, &brute)
         );

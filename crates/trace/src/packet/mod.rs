@@ -31,7 +31,7 @@ use crate::prepare::{Prepared, PreparedZone};
 use std::mem::MaybeUninit;
 use sv_geom::boolean::Bound;
 use sv_geom::shape::SegLanes;
-use sv_math::lanes::{along, box_lanes, not, Lanes, MAX_LANES};
+use sv_math::lanes::{along, box_lanes, dot, not, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
 
@@ -99,7 +99,7 @@ macro_rules! compiled_for_each {
 mod primary;
 mod shadow;
 
-pub use primary::Tile;
+pub use primary::{Tile, FACING_MISS};
 #[cfg(test)]
 mod tests;
 
@@ -153,6 +153,12 @@ impl<S: Simd> NearestHit<S> {
         }
     }
 
+    /// The lanes that hit something.
+    #[inline(always)]
+    fn hits(&self, s: S) -> u32 {
+        s.bits(s.lt(self.region, s.splat(f64::from(u32::MAX))))
+    }
+
     /// Write the lanes' hits to the first places of `out` in lane order,
     /// each with its lane's index from `index`, and, when given, their rays
     /// and the surface normals there ([`Prepared::normal`]) to the same
@@ -166,34 +172,18 @@ impl<S: Simd> NearestHit<S> {
         out: &mut [(u32, Hit)],
         rays: Option<(&Lanes<S>, &mut [Ray], &mut [DVec3])>,
     ) -> usize {
-        let hit = s.bits(s.lt(self.region, s.splat(f64::from(u32::MAX))));
+        let hit = self.hits(s);
         if hit == 0 {
             return 0;
         }
-        let (t, region, zone) = (
-            LaneValues::of(s, self.t),
-            LaneValues::of(s, self.region),
-            LaneValues::of(s, self.zone),
-        );
-        let (at, body, face) = (
-            LaneValues::of(s, self.a.t),
-            LaneValues::of(s, self.a.body),
-            LaneValues::of(s, self.a.face),
-        );
-        let inside = s.bits(self.inside);
+        let lanes = HitLanes::of(s, self);
         let mut n = 0;
         for (j, &at_index) in index.iter().enumerate().take(S::LANES) {
             if hit & (1 << j) != 0 {
                 // Written in place, field by field (see `first_hit_in`).
                 let slot = &mut out[n];
                 slot.0 = at_index;
-                slot.1 = Hit {
-                    t: t.0[j],
-                    region: region.0[j] as u32,
-                    bound: Bound::from_parts(at.0[j], body.0[j] as u32, face.0[j] as u32),
-                    inside: inside & (1 << j) != 0,
-                    zone: zone.0[j] as u32,
-                };
+                slot.1 = lanes.hit(j);
                 n += 1;
             }
         }
@@ -230,38 +220,15 @@ impl<S: Simd> NearestHit<S> {
         // Written only for the lanes of `in_lanes`.
         let mut out = [const { MaybeUninit::<LaneValues>::uninit() }; 3];
         let mut in_lanes = 0;
-        // Inside a region, or on no body: facing the ray; or on a surface
-        // inside a filled region, whose normal the hit carries: one by one.
-        let facing = s.or(
-            self.inside,
-            s.ge(self.a.body, s.splat(f64::from(Bound::NESTED))),
-        );
-        let mut todo = hit & !s.bits(facing);
-        let mut one_by_one = hit & s.bits(facing);
-        let bodies = LaneValues::of(s, self.a.body);
-        // The face without the flip bit (set for subtracted bodies), and
-        // the points hit.
-        let flip = s.ge(self.a.face, s.splat(FLIP));
-        let face = s.select(flip, s.sub(self.a.face, s.splat(FLIP)), self.a.face);
-        let at = along(s, r.o, r.d, self.t);
-        while todo != 0 {
-            let body = bodies.0[todo.trailing_zeros() as usize];
-            let group = todo & s.bits(s.eq(self.a.body, s.splat(body)));
-            todo &= !group;
-            let shape = &p.shapes[body as u32 as usize];
-            // Lanes are worth it for three rays or more.
-            if group.count_ones() < 3 || !shape.has_lanes() {
-                one_by_one |= group;
-                continue;
-            }
-            let lanes = shape.normal_lanes(s, face, at);
+        let (mut groups, mut one_by_one) = self.normal_groups(s, r, hit);
+        while let Some((group, lanes)) = groups.next(p, s, &mut one_by_one) {
             if in_lanes == 0 {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    o.write(LaneValues::of(s, s.select(flip, s.neg(l), l)));
+                    o.write(LaneValues::of(s, l));
                 }
             } else {
                 for (o, l) in out.iter_mut().zip(lanes) {
-                    let v = LaneValues::of(s, s.select(flip, s.neg(l), l));
+                    let v = LaneValues::of(s, l);
                     // SAFETY: written when the first group was.
                     let o = unsafe { o.assume_init_mut() };
                     for (k, x) in o.0.iter_mut().enumerate().take(S::LANES) {
@@ -295,6 +262,159 @@ impl<S: Simd> NearestHit<S> {
             n += 1;
         }
         debug_assert_eq!(one_by_one | in_lanes, hit);
+    }
+
+    /// The lanes of `hit` whose normals the lanes can compute, to be taken
+    /// a body at a time from [`NormalGroups::next`], and those that start
+    /// inside their region or lie on no body (whose normals face the ray)
+    /// or on a surface inside a filled region (whose normal the hit
+    /// carries): these go one by one.
+    #[inline(always)]
+    fn normal_groups(&self, s: S, r: &Lanes<S>, hit: u32) -> (NormalGroups<S>, u32) {
+        let facing = s.or(
+            self.inside,
+            s.ge(self.a.body, s.splat(f64::from(Bound::NESTED))),
+        );
+        // The face without the flip bit (set for subtracted bodies), and
+        // the points hit.
+        let flip = s.ge(self.a.face, s.splat(FLIP));
+        let groups = NormalGroups {
+            todo: hit & !s.bits(facing),
+            bodies: LaneValues::of(s, self.a.body),
+            body: self.a.body,
+            flip,
+            face: s.select(flip, s.sub(self.a.face, s.splat(FLIP)), self.a.face),
+            at: along(s, r.o, r.d, self.t),
+        };
+        (groups, hit & s.bits(facing))
+    }
+
+    /// For each lane of `hit`, how squarely its surface faces its ray (see
+    /// [`Prepared::facing`]), written to `out` at the lane's place in
+    /// `index`: in the lanes for each body that several of them hit, one
+    /// by one for the rest.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn facing(
+        &self,
+        p: &Prepared,
+        s: S,
+        r: &Lanes<S>,
+        hit: u32,
+        index: &[u32; MAX_LANES],
+        out: &mut [f64],
+        sc: &mut Scratch,
+    ) {
+        if hit == 0 {
+            return;
+        }
+        let mut cos = s.splat(0.0);
+        let (mut groups, mut one_by_one) = self.normal_groups(s, r, hit);
+        while let Some((group, n)) = groups.next(p, s, &mut one_by_one) {
+            // `-n·d`, as glam's dot and negation in `Prepared::facing`.
+            let c = s.neg(dot(s, n, r.d));
+            cos = s.select(s.mask(group), c, cos);
+        }
+        let cos = LaneValues::of(s, cos);
+        if one_by_one == 0 {
+            for (j, &at_index) in index.iter().enumerate().take(S::LANES) {
+                if hit & (1 << j) != 0 {
+                    out[at_index as usize] = cos.0[j].max(0.0);
+                }
+            }
+            return;
+        }
+        let (rays, hits) = (lane_rays(s, r), HitLanes::of(s, self));
+        for (j, &at_index) in index.iter().enumerate().take(S::LANES) {
+            if hit & (1 << j) == 0 {
+                continue;
+            }
+            out[at_index as usize] = if one_by_one & (1 << j) != 0 {
+                p.facing(&hits.hit(j), &rays[j], sc)
+            } else {
+                cos.0[j].max(0.0)
+            };
+        }
+    }
+}
+
+/// The normals of a packet's hits that the lanes compute, a body at a
+/// time (see [`NearestHit::normal_groups`]).
+struct NormalGroups<S: Simd> {
+    /// Lanes not yet taken.
+    todo: u32,
+    /// Each lane's body, to pick the next body from.
+    bodies: LaneValues,
+    body: S::F,
+    flip: S::M,
+    face: S::F,
+    at: [S::F; 3],
+}
+
+impl<S: Simd> NormalGroups<S> {
+    /// The next body's lanes and their normals (reversed for a subtracted
+    /// body), or `None` when no lane is left. A body that fewer than three
+    /// lanes hit, or with no lane form, adds its lanes to `one_by_one`.
+    #[inline(always)]
+    fn next(&mut self, p: &Prepared, s: S, one_by_one: &mut u32) -> Option<(u32, [S::F; 3])> {
+        while self.todo != 0 {
+            let body = self.bodies.0[self.todo.trailing_zeros() as usize];
+            let group = self.todo & s.bits(s.eq(self.body, s.splat(body)));
+            self.todo &= !group;
+            let shape = &p.shapes[body as u32 as usize];
+            // Lanes are worth it for three rays or more.
+            if group.count_ones() < 3 || !shape.has_lanes() {
+                *one_by_one |= group;
+                continue;
+            }
+            let [x, y, z] = shape.normal_lanes(s, self.face, self.at);
+            let f = self.flip;
+            let n = [
+                s.select(f, s.neg(x), x),
+                s.select(f, s.neg(y), y),
+                s.select(f, s.neg(z), z),
+            ];
+            return Some((group, n));
+        }
+        None
+    }
+}
+
+/// A packet's best hits, lane by lane, for the scalar code.
+struct HitLanes {
+    t: LaneValues,
+    region: LaneValues,
+    zone: LaneValues,
+    at: LaneValues,
+    body: LaneValues,
+    face: LaneValues,
+    inside: u32,
+}
+
+impl HitLanes {
+    #[inline(always)]
+    fn of<S: Simd>(s: S, b: &NearestHit<S>) -> HitLanes {
+        HitLanes {
+            t: LaneValues::of(s, b.t),
+            region: LaneValues::of(s, b.region),
+            zone: LaneValues::of(s, b.zone),
+            at: LaneValues::of(s, b.a.t),
+            body: LaneValues::of(s, b.a.body),
+            face: LaneValues::of(s, b.a.face),
+            inside: s.bits(b.inside),
+        }
+    }
+
+    /// Lane `j`'s hit.
+    #[inline(always)]
+    fn hit(&self, j: usize) -> Hit {
+        Hit {
+            t: self.t.0[j],
+            region: self.region.0[j] as u32,
+            bound: Bound::from_parts(self.at.0[j], self.body.0[j] as u32, self.face.0[j] as u32),
+            inside: self.inside & (1 << j) != 0,
+            zone: self.zone.0[j] as u32,
+        }
     }
 }
 

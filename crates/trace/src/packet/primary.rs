@@ -35,6 +35,39 @@ impl Tile {
     }
 }
 
+/// Where [`Prepared::tile_facing`] puts a pixel whose ray meets nothing.
+pub const FACING_MISS: f64 = -1.0;
+
+/// What a packet's hits are written as.
+pub(crate) enum PacketOut<'a> {
+    /// The hits at the first places, in lane order, with their lanes'
+    /// indices ([`NearestHit::emit`](super::NearestHit)), and when given,
+    /// their rays and normals at the same places.
+    Hits(
+        &'a mut [(u32, Hit)],
+        Option<(&'a mut [Ray], &'a mut [DVec3])>,
+    ),
+    /// How squarely each hit faces its ray, at its lane's index
+    /// ([`Prepared::tile_facing`]).
+    Facing(&'a mut [f64]),
+}
+
+impl PacketOut<'_> {
+    /// The places left after `found` hits.
+    #[inline(always)]
+    fn past(&mut self, found: usize) -> PacketOut<'_> {
+        match self {
+            PacketOut::Hits(hits, None) => PacketOut::Hits(&mut hits[found..], None),
+            PacketOut::Hits(hits, Some((rays, normals))) => PacketOut::Hits(
+                &mut hits[found..],
+                Some((&mut rays[found..], &mut normals[found..])),
+            ),
+            // Written by index, not packed.
+            PacketOut::Facing(facing) => PacketOut::Facing(facing),
+        }
+    }
+}
+
 impl Prepared {
     /// [`Prepared::first_hit_in`] for each of `rays` (a tile's, in the
     /// order they are given), several rays at once where the processor has
@@ -176,10 +209,74 @@ impl Prepared {
         grow(hits, tile.len(), (0, Hit::NONE));
         grow(rays, tile.len(), gen.along);
         grow(normals, tile.len(), DVec3::ZERO);
-        if let Some(n) = tile_any(self, gen, tile, zones, tmin, tmax, s, hits, rays, normals) {
+        let out = PacketOut::Hits(hits, Some((rays, normals)));
+        if let Some(n) = tile_any(self, gen, tile, zones, tmin, tmax, s, out) {
             return n;
         }
         self.tile_one_by_one(gen, tile, zones, tmin, tmax, s, hits, rays, normals)
+    }
+
+    /// How squarely each pixel of `tile` faces the ray through its centre
+    /// ([`Prepared::facing`] of its first hit, as [`Prepared::tile_hits`]
+    /// finds it, from 0 to 1), or −1 where that ray meets nothing: into
+    /// the first `tile.len()` places of `facing`, row by row, which is
+    /// only ever grown. The number of hits is returned.
+    ///
+    /// Everything BRL-CAD's `rt -l1` shades a pixel with, found without
+    /// writing out the hits, their rays and normals: in the lanes, a
+    /// packet's normals go straight into its cosines.
+    #[allow(clippy::too_many_arguments)]
+    pub fn tile_facing(
+        &self,
+        gen: &RayGen,
+        tile: Tile,
+        zones: Option<&[(f64, u32)]>,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        facing: &mut Vec<f64>,
+    ) -> usize {
+        grow(facing, tile.len(), FACING_MISS);
+        facing[..tile.len()].fill(FACING_MISS);
+        if tile.is_empty() {
+            return 0;
+        }
+        let out = PacketOut::Facing(&mut facing[..]);
+        if let Some(n) = tile_any(self, gen, tile, zones, tmin, tmax, s, out) {
+            return n;
+        }
+        let mut found = 0;
+        for (k, (x, y)) in (tile.y0..tile.y1)
+            .flat_map(|y| (tile.x0..tile.x1).map(move |x| (x, y)))
+            .enumerate()
+        {
+            let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
+            if let Some(h) = self.hit_among(zones, &ray, tmin, tmax, s) {
+                facing[k] = self.facing(&h, &ray, s);
+                found += 1;
+            }
+        }
+        found
+    }
+
+    /// [`Prepared::first_hit_in`] `zones` or, given none,
+    /// [`Prepared::first_hit`].
+    fn hit_among(
+        &self,
+        zones: Option<&[(f64, u32)]>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+    ) -> Option<Hit> {
+        match zones {
+            Some(zones) => {
+                let mut h = Hit::NONE;
+                self.first_hit_in(zones, ray, tmin, tmax, s, &mut h)
+                    .then_some(h)
+            }
+            None => self.first_hit(ray, tmin, tmax, s),
+        }
     }
 
     /// [`Prepared::tile_hits`] ray by ray.
@@ -202,18 +299,10 @@ impl Prepared {
             .enumerate()
         {
             let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
-            let slot = &mut hits[found];
-            let hit = match zones {
-                Some(zones) => self.first_hit_in(zones, &ray, tmin, tmax, s, &mut slot.1),
-                None => self
-                    .first_hit(&ray, tmin, tmax, s)
-                    .map(|h| slot.1 = h)
-                    .is_some(),
-            };
-            if hit {
-                slot.0 = k as u32;
+            if let Some(h) = self.hit_among(zones, &ray, tmin, tmax, s) {
+                hits[found] = (k as u32, h);
                 rays[found] = ray;
-                normals[found] = self.normal(&slot.1, &ray);
+                normals[found] = self.normal(&h, &ray);
                 found += 1;
             }
         }
@@ -248,15 +337,15 @@ impl Prepared {
                 tmax,
                 sc,
                 &index,
-                &mut out[found..],
-                None,
+                PacketOut::Hits(&mut out[found..], None),
             );
         }
         found
     }
 
-    /// [`Prepared::tile_hits`] in packets of `S::LANES` rays, each the rays
-    /// of a block of pixels two rows high.
+    /// [`Prepared::tile_hits`] or [`Prepared::tile_facing`] (as `out`
+    /// asks) in packets of `S::LANES` rays, each the rays of a block of
+    /// pixels two rows high.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn tile_in_packets<S: Simd>(
@@ -268,9 +357,7 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         sc: &mut Scratch,
-        hits: &mut [(u32, Hit)],
-        rays: &mut [Ray],
-        normals: &mut [DVec3],
+        mut out: PacketOut<'_>,
     ) -> usize {
         let cols = S::LANES / 2;
         let width = tile.x1 - tile.x0;
@@ -310,8 +397,7 @@ impl Prepared {
                     tmax,
                     sc,
                     &index,
-                    &mut hits[found..],
-                    Some((&mut rays[found..], &mut normals[found..])),
+                    out.past(found),
                 );
             }
         }
@@ -319,8 +405,8 @@ impl Prepared {
     }
 
     /// One packet (the lanes of `active`): its best hits among the sorted
-    /// `zones` or, given none, by walking the hierarchy, written as by
-    /// [`NearestHit::emit`]; the number of hits.
+    /// `zones` or, given none, by walking the hierarchy, written as `out`
+    /// asks; the number of hits.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn packet<S: Simd>(
@@ -333,37 +419,50 @@ impl Prepared {
         tmax: f64,
         sc: &mut Scratch,
         index: &[u32; MAX_LANES],
-        out: &mut [(u32, Hit)],
-        mut rays: Option<(&mut [Ray], &mut [DVec3])>,
+        out: PacketOut<'_>,
     ) -> usize {
         let best = match zones {
             Some(zones) => Some(self.list_best(s, zones, r, active, tmin, tmax, sc)),
             None => self.walk_best(s, r, active, tmin, tmax, sc),
         };
         if let Some(b) = best {
-            return b.emit(
-                self,
-                s,
-                index,
-                out,
-                rays.map(|(rays, normals)| (r, rays, normals)),
-            );
+            return match out {
+                PacketOut::Hits(hits, rays) => b.emit(
+                    self,
+                    s,
+                    index,
+                    hits,
+                    rays.map(|(rays, normals)| (r, rays, normals)),
+                ),
+                PacketOut::Facing(facing) => {
+                    let hit = b.hits(s);
+                    b.facing(self, s, r, hit, index, facing, sc);
+                    hit.count_ones() as usize
+                }
+            };
         }
         // A tree deeper than the walk's stack: ray by ray.
         let lanes = lane_rays(s, r);
+        let mut out = out;
         let mut n = 0;
         for (j, ray) in lanes.iter().enumerate().take(S::LANES) {
             if active & (1 << j) == 0 {
                 continue;
             }
-            if let Some(h) = self.first_hit(ray, tmin, tmax, sc) {
-                out[n] = (index[j], h);
-                if let Some((rays, normals)) = rays.as_mut() {
-                    rays[n] = *ray;
-                    normals[n] = self.normal(&h, ray);
+            let Some(h) = self.first_hit(ray, tmin, tmax, sc) else {
+                continue;
+            };
+            match &mut out {
+                PacketOut::Hits(hits, rays) => {
+                    hits[n] = (index[j], h);
+                    if let Some((rays, normals)) = rays {
+                        rays[n] = *ray;
+                        normals[n] = self.normal(&h, ray);
+                    }
                 }
-                n += 1;
+                PacketOut::Facing(facing) => facing[index[j] as usize] = self.facing(&h, ray, sc),
             }
+            n += 1;
         }
         n
     }
@@ -610,8 +709,6 @@ compiled_for_each! {
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
-        hits: &mut [(u32, Hit)],
-        rays: &mut [Ray],
-        normals: &mut [DVec3],
+        out: PacketOut<'_>,
     ) -> usize
 }

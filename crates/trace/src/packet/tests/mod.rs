@@ -503,29 +503,73 @@ pub(super) fn tile_paths(
     zones: Option<&[(f64, u32)]>,
     s: &mut Scratch,
 ) -> Vec<(&'static str, Traced, usize)> {
+    let fresh = || Traced::new(tile.len());
+    each_tile_path(p, gen, tile, zones, s, fresh, |t| {
+        PacketOut::Hits(&mut t.hits, Some((&mut t.rays, &mut t.normals)))
+    })
+}
+
+/// As [`tile_paths`], for how each pixel faces its ray
+/// ([`Prepared::tile_facing`]), every place first [`FACING_MISS`].
+pub(super) fn facing_paths(
+    p: &Prepared,
+    gen: &RayGen,
+    tile: Tile,
+    zones: Option<&[(f64, u32)]>,
+    s: &mut Scratch,
+) -> Vec<(&'static str, Vec<f64>, usize)> {
+    let fresh = || vec![FACING_MISS; tile.len()];
+    each_tile_path(p, gen, tile, zones, s, fresh, |f| PacketOut::Facing(f))
+}
+
+/// A tile traced by every packet path this processor has, each into what
+/// `fresh` makes, written as `out_of` asks.
+fn each_tile_path<T>(
+    p: &Prepared,
+    gen: &RayGen,
+    tile: Tile,
+    zones: Option<&[(f64, u32)]>,
+    s: &mut Scratch,
+    fresh: impl Fn() -> T,
+    out_of: for<'a> fn(&'a mut T) -> PacketOut<'a>,
+) -> Vec<(&'static str, T, usize)> {
     let inf = f64::INFINITY;
     let mut out = Vec::new();
-    let mut got = Traced::new(tile.len());
-    let (h, r, n) = (&mut got.hits, &mut got.rays, &mut got.normals);
-    let m = p.tile_in_packets(Portable::<4>, gen, tile, zones, 0.0, inf, s, h, r, n);
+    let mut got = fresh();
+    let m = p.tile_in_packets(
+        Portable::<4>,
+        gen,
+        tile,
+        zones,
+        0.0,
+        inf,
+        s,
+        out_of(&mut got),
+    );
     out.push(("four portable lanes", got, m));
-    let mut got = Traced::new(tile.len());
-    let (h, r, n) = (&mut got.hits, &mut got.rays, &mut got.normals);
-    let m = p.tile_in_packets(Portable::<8>, gen, tile, zones, 0.0, inf, s, h, r, n);
+    let mut got = fresh();
+    let m = p.tile_in_packets(
+        Portable::<8>,
+        gen,
+        tile,
+        zones,
+        0.0,
+        inf,
+        s,
+        out_of(&mut got),
+    );
     out.push(("eight portable lanes", got, m));
     #[cfg(target_arch = "x86_64")]
     {
         // SAFETY (both): the tokens prove the instructions are there.
         if let Some(t) = sv_math::simd::Avx512::detect() {
-            let mut got = Traced::new(tile.len());
-            let (h, r, n) = (&mut got.hits, &mut got.rays, &mut got.normals);
-            let m = unsafe { tile_avx512(p, t, gen, tile, zones, 0.0, inf, s, h, r, n) };
+            let mut got = fresh();
+            let m = unsafe { tile_avx512(p, t, gen, tile, zones, 0.0, inf, s, out_of(&mut got)) };
             out.push(("AVX-512", got, m));
         }
         if let Some(t) = sv_math::simd::Avx2::detect() {
-            let mut got = Traced::new(tile.len());
-            let (h, r, n) = (&mut got.hits, &mut got.rays, &mut got.normals);
-            let m = unsafe { tile_avx2(p, t, gen, tile, zones, 0.0, inf, s, h, r, n) };
+            let mut got = fresh();
+            let m = unsafe { tile_avx2(p, t, gen, tile, zones, 0.0, inf, s, out_of(&mut got)) };
             out.push(("AVX2", got, m));
         }
     }

@@ -86,6 +86,21 @@ fn tiles_of_the_raster_find_the_hits_rays_and_normals_of_pixels_traced_one_by_on
                     for (how, got, m) in tile_paths(&p, &gen, tile, zones, &mut s) {
                         check(how, &got, m);
                     }
+                    // How each pixel faces its ray: the scalar answer for
+                    // each hit's pixel, and no other pixel written.
+                    let mut facing = vec![FACING_MISS; tile.len()];
+                    for ((k, h), ray) in want.hits.iter().zip(&want.rays) {
+                        facing[*k as usize] = p.facing(h, ray, &mut s);
+                    }
+                    let bits = |f: &[f64]| f.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    for (how, got, m) in facing_paths(&p, &gen, tile, zones, &mut s) {
+                        assert_eq!(m, n, "{how} facing hits, view {view}, {tile:?}");
+                        assert_eq!(
+                            bits(&got),
+                            bits(&facing),
+                            "{how} facing, view {view}, {tile:?}"
+                        );
+                    }
                 }
             }
         }
@@ -112,6 +127,7 @@ fn the_public_calls_answer_as_the_rays_one_by_one_with_packets_or_without() {
         let mut s = Scratch::new(&with);
         let mut sorted = Vec::new();
         let (mut a, mut b) = (Traced::new(0), Traced::new(0));
+        let (mut fa, mut fb) = (Vec::new(), Vec::new());
         for batch in 0..30 {
             let (rays, eye, parallel) = rays(&mut rng, batch);
             if batch % 5 < 2 {
@@ -175,6 +191,16 @@ fn the_public_calls_answer_as_the_rays_one_by_one_with_packets_or_without() {
                 );
                 let (x, y) = (a.sorted(n), b.sorted(m));
                 assert!(same(&x.hits, &y.hits), "tile, batch {batch}");
+                let n = with.tile_facing(&gen, tile, zones, 0.0, inf, &mut s, &mut fa);
+                let m = without.tile_facing(&gen, tile, zones, 0.0, inf, &mut s, &mut fb);
+                assert_eq!(n, m, "tile facing hits, batch {batch}");
+                assert!(
+                    fa[..tile.len()]
+                        .iter()
+                        .zip(&fb[..tile.len()])
+                        .all(|(p, q)| p.to_bits() == q.to_bits()),
+                    "tile facing, batch {batch}"
+                );
                 assert!(
                     same_bits(&x.normals, &y.normals),
                     "tile normals, batch {batch}"

@@ -33,6 +33,12 @@ impl Tile {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+
+    /// Its pixels' columns and rows, row by row.
+    pub fn pixels(&self) -> impl Iterator<Item = (usize, usize)> {
+        let (x0, x1) = (self.x0, self.x1);
+        (self.y0..self.y1).flat_map(move |y| (x0..x1).map(move |x| (x, y)))
+    }
 }
 
 /// Where [`Prepared::tile_facing`] puts a pixel whose ray meets nothing.
@@ -246,10 +252,7 @@ impl Prepared {
             return n;
         }
         let mut found = 0;
-        for (k, (x, y)) in (tile.y0..tile.y1)
-            .flat_map(|y| (tile.x0..tile.x1).map(move |x| (x, y)))
-            .enumerate()
-        {
+        for (k, (x, y)) in tile.pixels().enumerate() {
             let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
             if let Some(h) = self.hit_among(zones, &ray, tmin, tmax, s) {
                 facing[k] = self.facing(&h, &ray, s);
@@ -294,10 +297,7 @@ impl Prepared {
         normals: &mut [DVec3],
     ) -> usize {
         let mut found = 0;
-        for (k, (x, y)) in (tile.y0..tile.y1)
-            .flat_map(|y| (tile.x0..tile.x1).map(move |x| (x, y)))
-            .enumerate()
-        {
+        for (k, (x, y)) in tile.pixels().enumerate() {
             let ray = gen.ray(x as f64 + 0.5, y as f64 + 0.5);
             if let Some(h) = self.hit_among(zones, &ray, tmin, tmax, s) {
                 hits[found] = (k as u32, h);

@@ -44,6 +44,8 @@ mod axes;
 mod check;
 mod colour;
 mod diff;
+mod fire;
+mod grid;
 mod legend;
 mod model;
 mod overlay;

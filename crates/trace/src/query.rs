@@ -6,7 +6,7 @@ use crate::bvh::{hits, Bvh};
 use crate::hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
 use crate::prepare::Prepared;
 use crate::raster::entry_of;
-use sv_geom::boolean::{push_merged, Bound, Span};
+use sv_geom::boolean::{Bound, Span};
 use sv_math::{DVec3, Ray};
 
 impl Prepared {
@@ -352,40 +352,28 @@ impl Prepared {
             }
         };
         walk(&mut collect, s);
-        self.union_partitions(&mut tagged, &mut s.tmp, out);
+        self.union_partitions(&mut tagged, out);
         s.tagged = tagged;
     }
 
     /// The stretches of `tagged` (spans of zones, each with its region)
-    /// unioned region by region into `out`, sorted by entry then region;
-    /// `tmp` is working memory.
-    pub(crate) fn union_partitions(
-        &self,
-        tagged: &mut [(u32, Span)],
-        tmp: &mut Vec<Span>,
-        out: &mut Vec<Partition>,
-    ) {
-        tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
-        let mut i = 0;
-        while i < tagged.len() {
-            let r = tagged[i].0;
-            tmp.clear();
-            while i < tagged.len() && tagged[i].0 == r {
-                push_merged(tmp, tagged[i].1, self.tol);
-                i += 1;
+    /// unioned region by region into `out`, sorted by entry then region.
+    /// Taken in that order, each span extends the region's last stretch
+    /// when it starts within the tolerance of its end, or starts a new
+    /// one: the stretches come out in order, and each region's spans are
+    /// unioned in the order of their entries, ties in the order given.
+    pub(crate) fn union_partitions(&self, tagged: &mut [(u32, Span)], out: &mut Vec<Partition>) {
+        tagged.sort_by(|a, b| a.1.a.t.total_cmp(&b.1.a.t).then(a.0.cmp(&b.0)));
+        for &(region, span) in tagged.iter() {
+            match out.iter_mut().rev().find(|p| p.region == region) {
+                Some(last) if span.a.t <= last.span.b.t + self.tol => {
+                    if span.b.t > last.span.b.t {
+                        last.span.b = span.b;
+                    }
+                }
+                _ => out.push(Partition { region, span }),
             }
-            out.extend(tmp.iter().map(|sp| Partition {
-                region: r,
-                span: *sp,
-            }));
         }
-        out.sort_by(|a, b| {
-            a.span
-                .a
-                .t
-                .total_cmp(&b.span.a.t)
-                .then(a.region.cmp(&b.region))
-        });
     }
 
     /// Every surface crossing along the ray for `t > tmin`, in order: where

@@ -64,7 +64,7 @@ impl Prepared {
             }
             for (lane, parts) in tagged.iter_mut().zip(parts.iter_mut()) {
                 parts.clear();
-                self.union_partitions(lane, &mut sc.tmp, parts);
+                self.union_partitions(lane, parts);
             }
         }
         sc.lane_tagged = tagged;

@@ -78,6 +78,11 @@ impl<'a> RayCheck<'a> {
         }
     }
 
+    /// The prepared geometry the rays are cast through.
+    pub(crate) fn prepared(&self) -> &sv_trace::Prepared {
+        &self.model.prepared
+    }
+
     /// Only the partitions of the ray within `(tmin, tmax)`, clipped.
     pub fn partitions(&mut self, ray: &Ray, tmin: f64, tmax: f64) {
         self.model
@@ -99,6 +104,18 @@ impl<'a> RayCheck<'a> {
     pub fn run(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
         self.findings.clear();
         self.partitions(ray, tmin, tmax);
+        self.classify(ray, tmin, tmax, tol);
+    }
+
+    /// [`RayCheck::run`], the partitions taken only from `zones`: every
+    /// zone whose bounds the ray meets within `(tmin, tmax)`, and maybe
+    /// more (see [`Prepared::partitions_in`](sv_trace::Prepared::partitions_in)).
+    pub(crate) fn run_in(&mut self, zones: &[u32], ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
+        self.findings.clear();
+        self.model
+            .prepared
+            .partitions_in(zones, ray, tmin, tmax, &mut self.s, &mut self.parts);
+        self.clip(tmin, tmax);
         self.classify(ray, tmin, tmax, tol);
     }
 

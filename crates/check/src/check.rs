@@ -1,10 +1,13 @@
 //! `check`: overlaps and voids by grids of rays.
 
 use crate::analyse::FindingKind;
-use crate::fire::{fire_rays, Acc, ChunkFindings, Totals, CHUNK};
+use crate::fire::{fire_chunks, Acc, ChunkFindings, Totals, CHUNK};
 use crate::grid::{cells, Grid};
 use crate::model::{CheckError, Model};
-use crate::report::{fmt_g, Outside, Overlap, Problem, Report, UniverseInfo, Void};
+use crate::refine::Refinement;
+use crate::report::{
+    fmt_g, Outside, Overlap, Problem, Report, SmallestFeature, UniverseInfo, Void,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -37,6 +40,13 @@ pub struct CheckOptions {
     /// closely at part of a model, or at a model without finite regions).
     /// Nothing outside it is checked.
     pub bounds: Option<sv_math::Aabb>,
+    /// Halvings of the spacing down to which rays are added between
+    /// neighbouring grid rays that see different regions (0: none); see
+    /// [`refine_levels`]. Default 4: down to a sixteenth of the spacing.
+    pub refine: u32,
+    /// Refine down to this distance instead (as many halvings of the
+    /// spacing as bring it there; none when it is not below the spacing).
+    pub refine_to: Option<f64>,
     /// Count overlaps with air regions as problems. By default they are
     /// listed apart ([`Report::air_overlaps`]) and do not make the report
     /// unclean: GIFT and BRL-CAD let an air region give way to a solid one,
@@ -55,16 +65,34 @@ impl Default for CheckOptions {
             max_rays: 50_000_000,
             strict_air: false,
             bounds: None,
+            refine: 4,
+            refine_to: None,
         }
     }
 }
 
-/// What a check fires: the box, the grid through it and the tolerance.
+/// The most halvings of the spacing a check refines by.
+pub const MAX_REFINE: u32 = 20;
+
+/// The halvings of `spacing` that bring it down to `finest` or below (at
+/// most [`MAX_REFINE`]): the [`CheckOptions::refine`] for refining down to
+/// a length. Zero when `finest` is not below the spacing.
+pub fn refine_levels(spacing: f64, finest: f64) -> u32 {
+    if !(finest > 0.0 && finest < spacing) {
+        return 0;
+    }
+    let levels = (spacing / finest).log2().ceil();
+    (levels as u32).clamp(1, MAX_REFINE)
+}
+
+/// What a check fires: the box, the grid through it, the tolerance and
+/// the refinement.
 pub(crate) struct Plan {
     pub checked_box: Aabb,
     pub spacing: f64,
     pub tolerance: f64,
     pub grid: Grid,
+    pub refinement: Refinement,
 }
 
 impl Plan {
@@ -82,12 +110,30 @@ impl Plan {
             None => (1e-5 * checked_box.size().length()).max(1e-12),
         };
         check_ray_counts(checked_box.size(), spacing, opts)?;
+        let levels = match opts.refine_to {
+            Some(d) if d > 0.0 && d.is_finite() => refine_levels(spacing, d),
+            Some(d) => {
+                return Err(CheckError::Option(format!(
+                    "the refinement distance must be positive, found {d}"
+                )))
+            }
+            None if opts.refine > MAX_REFINE => return Err(CheckError::Option(format!(
+                "refinement by {} halvings of the spacing is more than the limit of {MAX_REFINE}",
+                opts.refine
+            ))),
+            None => opts.refine,
+        };
         let grid = Grid::new(checked_box.min, checked_box.max, spacing);
+        let refinement = Refinement {
+            levels,
+            first_index: grid.total() + opts.random,
+        };
         Ok(Plan {
             checked_box,
             spacing,
             tolerance,
             grid,
+            refinement,
         })
     }
 
@@ -107,6 +153,8 @@ pub struct CheckPart {
     found: Vec<ChunkFindings>,
     /// The regions any ray of the share met.
     seen: Vec<bool>,
+    /// Refinement rays fired.
+    refine_rays: u64,
 }
 
 /// How many chunks of rays a check with `opts` fires: [`check_part`]
@@ -124,11 +172,15 @@ pub fn check_part(
 ) -> Result<CheckPart, CheckError> {
     let plan = Plan::new(model, opts)?;
     let chunks = chunks.start.min(plan.chunk_count(opts))..chunks.end.min(plan.chunk_count(opts));
-    let (found, seen) = fire_rays(model, &plan, opts, chunks.clone());
+    let mut found = Vec::with_capacity(chunks.end.saturating_sub(chunks.start) as usize);
+    let (seen, refine_rays) = fire_chunks(model, &plan, opts, chunks.clone(), &mut |chunk| {
+        found.push(chunk)
+    });
     Ok(CheckPart {
         chunks,
         found,
         seen,
+        refine_rays,
     })
 }
 
@@ -165,13 +217,10 @@ pub fn check_merge(
     for part in ordered {
         part.found.iter().for_each(|chunk| totals.add_chunk(chunk));
         totals.add_seen(&part.seen);
+        totals.refine_rays += part.refine_rays;
     }
     Ok(report(model, opts, &plan, totals, start))
 }
-
-/// Chunks fired at once by [`check`], whose findings are then added to
-/// the sums: a million rays' findings held at a time, however many rays.
-const BATCH: u64 = 4096;
 
 /// Fire the grids (and random rays) through `model` and gather every
 /// overlap, void and stretch outside the universe. Runs on the current
@@ -179,13 +228,13 @@ const BATCH: u64 = 4096;
 pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let start = Instant::now();
     let plan = Plan::new(model, opts)?;
-    let count = plan.chunk_count(opts);
     let mut totals = Totals::new(model.names.len());
-    for first in (0..count).step_by(BATCH as usize) {
-        let (found, seen) = fire_rays(model, &plan, opts, first..(first + BATCH).min(count));
-        found.iter().for_each(|chunk| totals.add_chunk(chunk));
-        totals.add_seen(&seen);
-    }
+    let chunks = 0..plan.chunk_count(opts);
+    let (seen, refine_rays) = fire_chunks(model, &plan, opts, chunks, &mut |chunk| {
+        totals.add_chunk(&chunk)
+    });
+    totals.add_seen(&seen);
+    totals.refine_rays = refine_rays;
     Ok(report(model, opts, &plan, totals, start))
 }
 
@@ -200,6 +249,7 @@ fn report(
     let Totals {
         found: findings,
         mut seen,
+        refine_rays,
     } = totals;
     // A lattice-filled cell is seen when its contents are.
     model.container_seen(&mut seen);
@@ -229,6 +279,9 @@ fn report(
         grid_rays: plan.grid.total(),
         random_rays: opts.random,
         tolerance: plan.tolerance,
+        refine: plan.refinement.levels,
+        refine_rays,
+        smallest_feature: smallest_feature(plan, &model.unit),
         universe: model
             .universe_note
             .clone()
@@ -240,6 +293,29 @@ fn report(
         unseen,
         beyond_box,
         seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// What the grid and refinement of `plan` are sure to meet.
+fn smallest_feature(plan: &Plan, unit: &str) -> SmallestFeature {
+    let (diagonal, side) = plan.grid.widest_cell();
+    let levels = plan.refinement.levels;
+    let at_edges = (levels > 0).then(|| side / f64::from(1u32 << levels));
+    let mut note = format!(
+        "sure to meet: any overlap or void whose cross-section across an axis holds a circle of {} {unit} (the grid's cell diagonal)",
+        fmt_g(diagonal)
+    );
+    match at_edges {
+        Some(thick) => note.push_str(&format!(
+            "; where neighbouring rays see different regions, slivers {} {unit} thick (refined {levels} times)",
+            fmt_g(thick)
+        )),
+        None => note.push_str("; no refinement"),
+    }
+    SmallestFeature {
+        anywhere: diagonal,
+        at_edges,
+        note,
     }
 }
 

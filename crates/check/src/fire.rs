@@ -5,6 +5,7 @@ use crate::analyse::{FindingKind, RayCheck};
 use crate::check::{CheckOptions, Plan};
 use crate::grid::{random_ray, Grid};
 use crate::model::Model;
+use crate::refine::{signature, Signatures};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -50,6 +51,8 @@ pub(crate) type ChunkFindings = Vec<(FindingKind, Acc)>;
 pub(crate) struct Totals {
     pub found: HashMap<FindingKind, Acc>,
     pub seen: Vec<bool>,
+    /// Refinement rays fired.
+    pub refine_rays: u64,
 }
 
 impl Totals {
@@ -57,6 +60,7 @@ impl Totals {
         Totals {
             found: HashMap::new(),
             seen: vec![false; regions],
+            refine_rays: 0,
         }
     }
 
@@ -78,29 +82,114 @@ impl Totals {
     }
 }
 
-/// Fire the chunks `chunks` of the grid and random rays on the rayon
-/// pool: per chunk, every kind of finding with its stretches summed (in
-/// order of kind), and which regions any ray met.
-pub(crate) fn fire_rays(
+/// Chunks fired at once, whose findings are then handed on before the
+/// next: a million rays' findings and signatures held at a time, however
+/// many rays.
+const BATCH: u64 = 4096;
+
+/// Fire the chunks `chunks` of the grid and random rays on the rayon pool,
+/// each followed by the refinement rays of the neighbouring grid rays that
+/// end in it (see [`crate::refine`]): per chunk, in chunk order, every
+/// kind of finding with its stretches summed (in order of kind) is handed
+/// to `each`. Returns which regions any ray met and the number of
+/// refinement rays.
+pub(crate) fn fire_chunks(
     model: &Model,
     plan: &Plan,
     opts: &CheckOptions,
     chunks: Range<u64>,
-) -> (Vec<ChunkFindings>, Vec<bool>) {
+    each: &mut dyn FnMut(ChunkFindings),
+) -> (Vec<bool>, u64) {
     let seen: Vec<AtomicBool> = (0..model.names.len())
         .map(|_| AtomicBool::new(false))
         .collect();
-    let found = chunks
-        .into_par_iter()
-        .map_init(
-            || Worker::new(model),
-            |worker, chunk| fire_chunk(model, plan, opts, worker, chunk, &seen),
-        )
-        .collect();
-    (
-        found,
-        seen.into_iter().map(AtomicBool::into_inner).collect(),
-    )
+    let refining = plan.refinement.levels > 0;
+    let grid = &plan.grid;
+    let mut sigs = Signatures {
+        first: chunks.start * CHUNK,
+        sigs: Vec::new(),
+    };
+    if refining {
+        sigs = signatures_before(model, plan, chunks.start * CHUNK);
+    }
+    let mut refined = 0;
+    for first in chunks.clone().step_by(BATCH as usize) {
+        let batch = first..(first + BATCH).min(chunks.end);
+        let fired: Vec<(KindSums, Vec<u64>)> = batch
+            .clone()
+            .into_par_iter()
+            .map_init(
+                || Worker::new(model),
+                |worker, chunk| fire_chunk(model, plan, opts, worker, chunk, &seen),
+            )
+            .collect();
+        let mut sums = Vec::with_capacity(fired.len());
+        for (chunk_sums, chunk_sigs) in fired {
+            sigs.sigs.extend(chunk_sigs);
+            sums.push(chunk_sums);
+        }
+        let done: Vec<(ChunkFindings, u64)> = sums
+            .into_par_iter()
+            .enumerate()
+            .map_init(
+                || RayCheck::new(model),
+                |ray_check, (at, chunk_sums)| {
+                    let chunk = batch.start + at as u64;
+                    refine_chunk(plan, ray_check, chunk, &sigs, chunk_sums, &seen)
+                },
+            )
+            .collect();
+        for (found, rays) in done {
+            refined += rays;
+            each(found);
+        }
+        sigs.keep_from((batch.end * CHUNK).saturating_sub(grid.longest_row()));
+    }
+    let seen = seen.into_iter().map(AtomicBool::into_inner).collect();
+    (seen, refined)
+}
+
+/// The signatures of the grid rays up to a row before ray `start`, for the
+/// refinement of the rays from `start` on: fired anew when a check is
+/// split into parts.
+fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
+    let start = start.min(plan.grid.total());
+    let rays = start.saturating_sub(plan.grid.longest_row())..start;
+    let mut sigs = Signatures {
+        first: rays.start,
+        sigs: Vec::with_capacity((rays.end - rays.start) as usize),
+    };
+    let tolerance = plan.tolerance;
+    let mut worker = Worker::new(model);
+    fire_grid_rays(model, plan, &mut worker, rays, |ray_check, _, _, _| {
+        sigs.sigs.push(signature(&ray_check.parts, tolerance));
+    });
+    sigs
+}
+
+/// Fire the refinement rays that end in chunk `chunk` (see
+/// [`Refinement::refine`]), adding their findings to the chunk's `sums`:
+/// the chunk's findings in order of kind, and the number of rays.
+fn refine_chunk(
+    plan: &Plan,
+    ray_check: &mut RayCheck,
+    chunk: u64,
+    sigs: &Signatures,
+    mut sums: KindSums,
+    seen: &[AtomicBool],
+) -> (ChunkFindings, u64) {
+    let rays = chunk * CHUNK..((chunk + 1) * CHUNK).min(plan.grid.total());
+    let mut fired = 0;
+    if rays.start < rays.end {
+        fired = plan.refinement.refine(
+            &plan.grid,
+            sigs,
+            rays,
+            (ray_check, plan.tolerance),
+            &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, &mut sums, seen),
+        );
+    }
+    (sums.sorted(), fired)
 }
 
 /// The zones a run of grid rays along one row can meet: those whose
@@ -188,13 +277,12 @@ impl RowZones {
 const PACKET: u64 = 8;
 
 /// Working memory of a thread: the rays' classification, the zones of the
-/// row under way, a packet's rays and partitions, and a chunk's sums.
+/// row under way, and a packet's rays and partitions.
 struct Worker<'a> {
     ray_check: RayCheck<'a>,
     row: RowZones,
     rays: Vec<Ray>,
     parts: Vec<Vec<Partition>>,
-    sums: KindSums,
 }
 
 impl<'a> Worker<'a> {
@@ -204,15 +292,14 @@ impl<'a> Worker<'a> {
             row: RowZones::default(),
             rays: Vec::with_capacity(PACKET as usize),
             parts: vec![Vec::new(); PACKET as usize],
-            sums: KindSums::default(),
         }
     }
 }
 
-/// Fire the rays of chunk `chunk`: its findings by kind (in order of
-/// kind); the regions its rays meet are marked in `seen`. Grid rays go in
-/// packets along their row; the findings are summed ray by ray in the
-/// order of the rays.
+/// Fire the rays of chunk `chunk`: its findings by kind, and the
+/// signatures of its grid rays when the check refines; the regions its
+/// rays meet are marked in `seen`. The findings are summed ray by ray in
+/// the order of the rays.
 fn fire_chunk(
     model: &Model,
     plan: &Plan,
@@ -220,40 +307,62 @@ fn fire_chunk(
     worker: &mut Worker,
     chunk: u64,
     seen: &[AtomicBool],
-) -> ChunkFindings {
+) -> (KindSums, Vec<u64>) {
     let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
     let end = ((chunk + 1) * CHUNK).min(grid_rays + opts.random);
-    worker.sums.clear();
-    let mut index = chunk * CHUNK;
-    while index < end.min(grid_rays) {
-        let packet = index..(index + PACKET).min(grid.row_end(index)).min(end);
-        let (t1, area) = grid.run_rays(packet.clone(), &mut worker.rays);
-        let zones = worker.row.for_rays(model, grid, packet.clone(), end);
-        let Worker {
-            ray_check,
-            rays,
-            parts,
-            sums,
-            ..
-        } = worker;
-        ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
-        for (at, (ray, ray_parts)) in packet.clone().zip(rays.iter().zip(parts.iter_mut())) {
-            ray_check.run_on(ray_parts, ray, 0.0, t1, tolerance);
-            gather(ray_check, ray, at, area, sums, seen);
+    let mut sums = KindSums::default();
+    let mut sigs = Vec::new();
+    let refining = plan.refinement.levels > 0;
+    let rays = chunk * CHUNK..end.min(grid_rays);
+    fire_grid_rays(model, plan, worker, rays, |ray_check, ray, at, area| {
+        gather(ray_check, ray, at, area, &mut sums, seen);
+        if refining {
+            sigs.push(signature(&ray_check.parts, tolerance));
         }
-        index = packet.end;
-    }
-    for random_index in index.max(grid_rays) - grid_rays..end.saturating_sub(grid_rays) {
+    });
+    let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
+    for random_index in randoms {
         let (lo, hi) = (checked_box.min, checked_box.max);
         if let Some((ray, t0, t1)) = random_ray(lo, hi, opts.seed, random_index) {
             let ray_check = &mut worker.ray_check;
             ray_check.run(&ray, t0, t1, tolerance);
             let at = grid_rays + random_index;
-            gather(ray_check, &ray, at, 0.0, &mut worker.sums, seen);
+            gather(ray_check, &ray, at, 0.0, &mut sums, seen);
         }
     }
-    worker.sums.sorted()
+    (sums, sigs)
+}
+
+/// Fire the grid rays `rays` in packets along their rows, handing each,
+/// in order, to `each` with its index, the area it stands for and the
+/// partitions and findings of the worker's classification.
+fn fire_grid_rays(
+    model: &Model,
+    plan: &Plan,
+    worker: &mut Worker,
+    rays: Range<u64>,
+    mut each: impl FnMut(&RayCheck, &Ray, u64, f64),
+) {
+    let grid = &plan.grid;
+    let mut index = rays.start;
+    while index < rays.end {
+        let packet = index..(index + PACKET).min(grid.row_end(index)).min(rays.end);
+        let (t1, area) = grid.run_rays(packet.clone(), &mut worker.rays);
+        let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
+        let Worker {
+            ray_check,
+            rays,
+            parts,
+            ..
+        } = worker;
+        ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
+        for (at, (ray, ray_parts)) in packet.clone().zip(rays.iter().zip(parts.iter_mut())) {
+            ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);
+            each(ray_check, ray, at, area);
+        }
+        index = packet.end;
+    }
 }
 
 /// Add the findings of ray `index` (standing for `area`) to `sums`, and
@@ -294,17 +403,12 @@ fn gather(
 /// few kinds, the same ones ray after ray: a look at the last one used,
 /// then along the list, beats hashing.
 #[derive(Default)]
-struct KindSums {
+pub(crate) struct KindSums {
     sums: Vec<(FindingKind, Acc)>,
     last: usize,
 }
 
 impl KindSums {
-    fn clear(&mut self) {
-        self.sums.clear();
-        self.last = 0;
-    }
-
     /// Add a stretch of kind `kind`.
     fn add(&mut self, kind: FindingKind, stretch: Acc) {
         let at = match self.sums.get(self.last) {

@@ -82,6 +82,36 @@ impl Grid {
         (first.max(rays.start), last.min(rays.end - 1))
     }
 
+    /// The grid rays before ray `idx` along its row and across it (the
+    /// same place in the row before), each with the axis along which the
+    /// two lie apart; `None` at the start of a row, or in the first row.
+    pub(crate) fn neighbours_before(&self, idx: u64) -> [Option<(u64, usize)>; 2] {
+        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+        let local = idx - self.first[k];
+        let row = self.n[k].0;
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        [
+            (local % row > 0).then(|| (idx - 1, u)),
+            (local >= row).then(|| (idx - row, v)),
+        ]
+    }
+
+    /// The widest cell of the three grids: its diagonal, and its longer
+    /// side.
+    pub(crate) fn widest_cell(&self) -> (f64, f64) {
+        self.cell
+            .iter()
+            .fold((0.0f64, 0.0f64), |(diagonal, side), &(a, b)| {
+                (diagonal.max(a.hypot(b)), side.max(a.max(b)))
+            })
+    }
+
+    /// The longest row of the grid: a ray's neighbour across its row lies
+    /// at most this many rays before it.
+    pub(crate) fn longest_row(&self) -> u64 {
+        self.n.iter().map(|n| n.0).max().unwrap_or(1)
+    }
+
     /// The box that grid rays `first` to `last` (one row) cross over
     /// their range.
     pub(crate) fn run_box(&self, first: u64, last: u64) -> Aabb {

@@ -5,7 +5,7 @@
 //! goes to the scalar code.
 
 use super::primary::lanes_of;
-use super::{within, End, LaneValues, SpanLanes};
+use super::{within, End, SpanLanes};
 use crate::hit::{Partition, Scratch};
 use crate::prepare::Prepared;
 use sv_geom::boolean::{Bound, Span};
@@ -55,13 +55,25 @@ impl Prepared {
     ) {
         let mut tagged = std::mem::take(&mut sc.lane_tagged);
         tagged.resize_with(MAX_LANES, Vec::new);
+        let mut held = HeldSpans::default();
         for (packet, parts) in rays.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
             let r = lanes_of(s, packet);
             let active = (1u32 << packet.len()) - 1;
             tagged.iter_mut().for_each(Vec::clear);
             for &zi in zones {
-                self.tag_zone_lanes(s, zi, (&r, packet), active, (tmin, tmax), sc, &mut tagged);
+                let rays = (&r, packet);
+                self.tag_zone_lanes(
+                    s,
+                    zi,
+                    rays,
+                    active,
+                    (tmin, tmax),
+                    sc,
+                    &mut tagged,
+                    &mut held,
+                );
             }
+            held.hand_out(&mut tagged);
             for (lane, parts) in tagged.iter_mut().zip(parts.iter_mut()) {
                 parts.clear();
                 self.union_partitions(lane, parts);
@@ -72,7 +84,9 @@ impl Prepared {
 
     /// The spans of zone `zi` along the rays of the lanes of `active`
     /// (`r` in lanes, `rays` one by one) that reach into `(tmin, tmax)`,
-    /// added to each lane's list in `tagged` with the zone's region.
+    /// added to each lane's list in `tagged` with the zone's region: those
+    /// made one by one at once, those made in the lanes held in `held`
+    /// until the next zone a lane meets (or the packet's end).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn tag_zone_lanes<S: Simd>(
@@ -84,6 +98,7 @@ impl Prepared {
         (tmin, tmax): (f64, f64),
         sc: &mut Scratch,
         tagged: &mut [Vec<(u32, Span)>],
+        held: &mut HeldSpans,
     ) {
         let z = &self.zones[zi as usize];
         let (lo, hi) = (s.splat(tmin), s.splat(tmax));
@@ -92,6 +107,9 @@ impl Prepared {
         if met == 0 {
             return;
         }
+        // The last zone's spans go first, so that each lane's spans stay
+        // in the order of the zones.
+        held.hand_out(tagged);
         let mut one_by_one = met;
         if z.lanes && !z.is_filled() {
             let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
@@ -101,18 +119,7 @@ impl Prepared {
             let first = s.bits(s.and(alive, within(s, &spans.cur, lo, hi)));
             let second = s.bits(s.and(s.and(alive, spans.two), within(s, &spans.next, lo, hi)));
             if first | second != 0 {
-                let (cur, next) = (
-                    SpanValues::of(s, &spans.cur),
-                    SpanValues::of(s, &spans.next),
-                );
-                for (j, lane) in tagged.iter_mut().enumerate().take(S::LANES) {
-                    if first & (1 << j) != 0 {
-                        lane.push((z.region, cur.span(j)));
-                    }
-                    if second & (1 << j) != 0 {
-                        lane.push((z.region, next.span(j)));
-                    }
-                }
+                held.hold(s, z.region, (first, &spans.cur), (second, &spans.next));
             }
         }
         if one_by_one == 0 {
@@ -132,34 +139,77 @@ impl Prepared {
     }
 }
 
-/// A span of every lane, lane by lane: the distances, bodies and faces of
-/// its two ends.
-struct SpanValues([LaneValues; 6]);
+/// The spans a zone left in the lanes, held lane by lane until they are
+/// handed out to the lanes' lists: read back at once, the values just
+/// stored from the vectors would wait for the stores to reach the cache.
+#[derive(Default)]
+struct HeldSpans {
+    region: u32,
+    /// The lanes whose first span, and whose second, are held.
+    first: u32,
+    second: u32,
+    /// The two spans' ends: distance, body and face of each end.
+    cur: [[f64; MAX_LANES]; 6],
+    next: [[f64; MAX_LANES]; 6],
+}
 
-impl SpanValues {
-    /// Written out, without a closure: one would stay a call outside the
-    /// instruction set the packet is compiled for.
+impl HeldSpans {
+    /// Hold the spans `cur` of the lanes of `first` and `next` of those
+    /// of `second`, of region `region`.
     #[inline(always)]
-    fn of<S: Simd>(s: S, sp: &SpanLanes<S>) -> SpanValues {
-        let (End { t, body, face }, b) = (sp.a, sp.b);
-        SpanValues([
-            LaneValues::of(s, t),
-            LaneValues::of(s, body),
-            LaneValues::of(s, face),
-            LaneValues::of(s, b.t),
-            LaneValues::of(s, b.body),
-            LaneValues::of(s, b.face),
-        ])
+    fn hold<S: Simd>(
+        &mut self,
+        s: S,
+        region: u32,
+        (first, cur): (u32, &SpanLanes<S>),
+        (second, next): (u32, &SpanLanes<S>),
+    ) {
+        self.region = region;
+        (self.first, self.second) = (first, second);
+        store_span(s, cur, &mut self.cur);
+        store_span(s, next, &mut self.next);
     }
 
-    /// The span of lane `j`.
+    /// Add the spans held to their lanes' lists, and hold none.
     #[inline(always)]
-    fn span(&self, j: usize) -> Span {
-        let v = |k: usize| self.0[k].0[j];
-        Span {
-            a: Bound::from_parts(v(0), v(1) as u32, v(2) as u32),
-            b: Bound::from_parts(v(3), v(4) as u32, v(5) as u32),
+    fn hand_out(&mut self, tagged: &mut [Vec<(u32, Span)>]) {
+        let (first, second) = (self.first, self.second);
+        if first | second == 0 {
+            return;
         }
+        for (j, lane) in tagged.iter_mut().enumerate() {
+            if first & (1 << j) != 0 {
+                lane.push((self.region, lane_span(&self.cur, j)));
+            }
+            if second & (1 << j) != 0 {
+                lane.push((self.region, lane_span(&self.next, j)));
+            }
+        }
+        (self.first, self.second) = (0, 0);
+    }
+}
+
+/// Store the ends of span `sp` of every lane into `out`: distance, body
+/// and face of each end. Written out, without a closure: one would stay a
+/// call outside the instruction set the packet is compiled for.
+#[inline(always)]
+fn store_span<S: Simd>(s: S, sp: &SpanLanes<S>, out: &mut [[f64; MAX_LANES]; 6]) {
+    let (End { t, body, face }, b) = (sp.a, sp.b);
+    s.store(t, &mut out[0]);
+    s.store(body, &mut out[1]);
+    s.store(face, &mut out[2]);
+    s.store(b.t, &mut out[3]);
+    s.store(b.body, &mut out[4]);
+    s.store(b.face, &mut out[5]);
+}
+
+/// The span of lane `j` of the ends stored by [`store_span`].
+#[inline(always)]
+fn lane_span(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span {
+    let v = |k: usize| ends[k][j];
+    Span {
+        a: Bound::from_parts(v(0), v(1) as u32, v(2) as u32),
+        b: Bound::from_parts(v(3), v(4) as u32, v(5) as u32),
     }
 }
 

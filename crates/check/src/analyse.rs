@@ -107,18 +107,6 @@ impl<'a> RayCheck<'a> {
         self.classify(ray, tmin, tmax, tol);
     }
 
-    /// [`RayCheck::run`], the partitions taken only from `zones`: every
-    /// zone whose bounds the ray meets within `(tmin, tmax)`, and maybe
-    /// more (see [`Prepared::partitions_in`](sv_trace::Prepared::partitions_in)).
-    pub(crate) fn run_in(&mut self, zones: &[u32], ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
-        self.findings.clear();
-        self.model
-            .prepared
-            .partitions_in(zones, ray, tmin, tmax, &mut self.s, &mut self.parts);
-        self.clip(tmin, tmax);
-        self.classify(ray, tmin, tmax, tol);
-    }
-
     /// The partitions of each of `rays` within `(tmin, tmax)` (unclipped)
     /// into the same places of `out`, several at once where the processor
     /// can: `zones` must hold every zone whose bounds any of them meets

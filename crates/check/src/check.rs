@@ -117,10 +117,12 @@ impl Plan {
                     "the refinement distance must be positive, found {d}"
                 )))
             }
-            None if opts.refine > MAX_REFINE => return Err(CheckError::Option(format!(
+            None if opts.refine > MAX_REFINE => {
+                return Err(CheckError::Option(format!(
                 "refinement by {} halvings of the spacing is more than the limit of {MAX_REFINE}",
                 opts.refine
-            ))),
+            )))
+            }
             None => opts.refine,
         };
         let grid = Grid::new(checked_box.min, checked_box.max, spacing);

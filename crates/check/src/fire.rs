@@ -5,7 +5,7 @@ use crate::analyse::{FindingKind, RayCheck};
 use crate::check::{CheckOptions, Plan};
 use crate::grid::{random_ray, Grid};
 use crate::model::Model;
-use crate::refine::{signature, Signatures};
+use crate::refine::{signature, Bundle, Signatures};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -132,10 +132,11 @@ pub(crate) fn fire_chunks(
             .into_par_iter()
             .enumerate()
             .map_init(
-                || RayCheck::new(model),
-                |ray_check, (at, chunk_sums)| {
+                || (RayCheck::new(model), Bundle::default()),
+                |(ray_check, bundle), (at, chunk_sums)| {
                     let chunk = batch.start + at as u64;
-                    refine_chunk(plan, ray_check, chunk, &sigs, chunk_sums, &seen)
+                    let work = (ray_check, bundle);
+                    refine_chunk(plan, work, chunk, &sigs, chunk_sums, &seen)
                 },
             )
             .collect();
@@ -172,7 +173,7 @@ fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
 /// the chunk's findings in order of kind, and the number of rays.
 fn refine_chunk(
     plan: &Plan,
-    ray_check: &mut RayCheck,
+    (ray_check, bundle): (&mut RayCheck, &mut Bundle),
     chunk: u64,
     sigs: &Signatures,
     mut sums: KindSums,
@@ -185,7 +186,7 @@ fn refine_chunk(
             &plan.grid,
             sigs,
             rays,
-            (ray_check, plan.tolerance),
+            (ray_check, bundle, plan.tolerance),
             &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, &mut sums, seen),
         );
     }

@@ -76,38 +76,102 @@ pub(crate) struct Refinement {
     pub first_index: u64,
 }
 
-/// A segment between two neighbouring grid rays to bisect: the varying
-/// coordinate (axis `w`) of its ends, their signatures, the ray the
-/// midpoints copy and its range, and the zones its rays may meet (`None`:
-/// walk the hierarchy).
-#[derive(Clone, Copy)]
-struct Segment<'z> {
+/// A stretch between two neighbouring grid rays to bisect: the axis `w`
+/// along which its ends lie apart, the ray its midpoints copy (but for
+/// coordinate `w`) and its range, and the index of its first ray.
+struct Segment {
     w: usize,
-    ends: [(f64, u64); 2],
     template: Ray,
     tmax: f64,
-    zones: Option<&'z [u32]>,
+    id: u64,
 }
+
+/// A piece of a segment still to bisect: the segment, its node in the
+/// tree of the segment's halvings (1: the whole segment), and the
+/// coordinate and signature of each end.
+#[derive(Clone, Copy)]
+struct Piece {
+    segment: u32,
+    node: u64,
+    ends: [(f64, u64); 2],
+}
+
+/// Working memory of a refinement: a bundle's rays, their partitions and
+/// zones.
+#[derive(Default)]
+pub(crate) struct Bundle {
+    rays: Vec<Ray>,
+    parts: Vec<Vec<Partition>>,
+    zones: Vec<u32>,
+}
+
+/// Rays fired together by a refinement: as many as a packet of the grid's.
+const BUNDLE: usize = sv_math::lanes::MAX_LANES;
+
+/// Rays bisecting different pieces go together while they lie within
+/// this many grid cells of the bundle's first: their box, whose zones they
+/// share, stays small.
+const NEAR_CELLS: f64 = 256.0;
 
 impl Refinement {
     /// Fire the refinement rays of the pairs of neighbouring grid rays
     /// that end at the rays `rays` (the one before along the row, and the
-    /// one before across it), whose signatures `sigs` holds. Each ray
-    /// fired is handed to `found` with its index and the partitions and
-    /// findings of `ray_check` (tolerance `tol`); the number of rays fired.
+    /// one before across it), whose signatures `sigs` holds, a halving at a
+    /// time, in bundles of nearby rays. Each ray fired is handed to `found`
+    /// with its index and the partitions and findings of `ray_check`
+    /// (tolerance `tol`); the number of rays fired.
     pub fn refine(
         &self,
         grid: &Grid,
         sigs: &Signatures,
         rays: Range<u64>,
-        (ray_check, tol): (&mut RayCheck, f64),
+        (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
         found: &mut dyn FnMut(&RayCheck, &Ray, u64),
     ) -> u64 {
         if self.levels == 0 {
             return 0;
         }
+        let (segments, mut pieces) = self.segments(grid, sigs, rays);
+        let near = NEAR_CELLS * grid.widest_cell().1;
         let mut fired = 0;
-        let mut zones = Vec::new();
+        for _ in 0..self.levels {
+            let mut next = Vec::new();
+            let mut first = 0;
+            while first < pieces.len() {
+                // The bundle: the pieces after `first` whose rays share a
+                // range and lie near the first's.
+                let lead = &segments[pieces[first].segment as usize];
+                let end = (first..pieces.len())
+                    .take(BUNDLE)
+                    .take_while(|&at| {
+                        let other = &segments[pieces[at].segment as usize];
+                        other.tmax == lead.tmax
+                            && (other.template.origin - lead.template.origin)
+                                .abs()
+                                .max_element()
+                                <= near
+                    })
+                    .last()
+                    .map_or(first + 1, |last| last + 1);
+                let group = &pieces[first..end];
+                fired +=
+                    self.fire_bundle(&segments, group, (ray_check, bundle, tol), found, &mut next);
+                first = end;
+            }
+            pieces = next;
+        }
+        fired
+    }
+
+    /// The segments between neighbouring grid rays that end at `rays` and
+    /// see different things, and a piece for each (the whole segment).
+    fn segments(
+        &self,
+        grid: &Grid,
+        sigs: &Signatures,
+        rays: Range<u64>,
+    ) -> (Vec<Segment>, Vec<Piece>) {
+        let (mut segments, mut pieces) = (Vec::new(), Vec::new());
         for index in rays {
             let Some(sig) = sigs.get(index) else { continue };
             for (side, before) in grid.neighbours_before(index).into_iter().enumerate() {
@@ -118,58 +182,69 @@ impl Refinement {
                 };
                 let (ray, tmax, _) = grid.ray(index);
                 let (from, _, _) = grid.ray(before);
-                // The zones the rays between the two can meet, listed once.
-                let between = Aabb::EMPTY.including(from.origin).including(ray.at(tmax));
-                let listed = ray_check.prepared().all_zones_in_box(&between, &mut zones);
-                let segment = Segment {
-                    w,
+                pieces.push(Piece {
+                    segment: segments.len() as u32,
+                    node: 1,
                     ends: [(from.origin[w], other), (ray.origin[w], sig)],
+                });
+                segments.push(Segment {
+                    w,
                     template: ray,
                     tmax,
-                    zones: listed.then_some(&zones[..]),
-                };
-                let id = self.first_index + ((2 * index + side as u64) << self.levels);
-                fired += self.bisect(&segment, 1, id, (ray_check, tol), found);
+                    id: self.first_index + ((2 * index + side as u64) << self.levels),
+                });
             }
         }
-        fired
+        (segments, pieces)
     }
 
-    /// Bisect `segment`, node `node` of the tree of its halvings (1: the
-    /// whole segment), at `level`; the rays fired.
-    fn bisect(
+    /// Fire the midpoints of `pieces` together, and add to `next` the
+    /// halves whose ends still see different things; the rays fired.
+    fn fire_bundle(
         &self,
-        segment: &Segment,
-        node: u64,
-        id: u64,
-        (ray_check, tol): (&mut RayCheck, f64),
+        segments: &[Segment],
+        pieces: &[Piece],
+        (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
         found: &mut dyn FnMut(&RayCheck, &Ray, u64),
+        next: &mut Vec<Piece>,
     ) -> u64 {
-        let level = 64 - node.leading_zeros();
-        if level > self.levels {
-            return 0;
+        let tmax = segments[pieces[0].segment as usize].tmax;
+        bundle.rays.clear();
+        let mut reach = Aabb::EMPTY;
+        for piece in pieces {
+            let segment = &segments[piece.segment as usize];
+            let mut ray = segment.template;
+            ray.origin[segment.w] = 0.5 * (piece.ends[0].0 + piece.ends[1].0);
+            reach = reach.including(ray.origin).including(ray.at(tmax));
+            bundle.rays.push(ray);
         }
-        let [(a, sig_a), (b, sig_b)] = segment.ends;
-        let mut ray = segment.template;
-        ray.origin[segment.w] = 0.5 * (a + b);
-        match segment.zones {
-            Some(zones) => ray_check.run_in(zones, &ray, 0.0, segment.tmax, tol),
-            None => ray_check.run(&ray, 0.0, segment.tmax, tol),
-        }
-        let sig = signature(&ray_check.parts, tol);
-        found(ray_check, &ray, id + node);
-        let mut fired = 1;
-        let mid = ray.origin[segment.w];
-        for (half, (end, end_sig)) in [(0, (a, sig_a)), (1, (b, sig_b))] {
-            if end_sig != sig {
-                let mut ends = [(end, end_sig), (mid, sig)];
-                if half == 1 {
-                    ends.swap(0, 1);
+        bundle
+            .parts
+            .resize_with(pieces.len().max(bundle.parts.len()), Vec::new);
+        let listed = ray_check
+            .prepared()
+            .all_zones_in_box(&reach, &mut bundle.zones);
+        let zones = listed.then_some(&bundle.zones[..]);
+        ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, &mut bundle.parts);
+        for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {
+            ray_check.run_on(parts, ray, 0.0, tmax, tol);
+            let segment = &segments[piece.segment as usize];
+            found(ray_check, ray, segment.id + piece.node);
+            let sig = signature(&ray_check.parts, tol);
+            let mid = (ray.origin[segment.w], sig);
+            let [low, high] = piece.ends;
+            if 64 - piece.node.leading_zeros() < self.levels {
+                for (half, ends) in [(0, [low, mid]), (1, [mid, high])] {
+                    if ends[0].1 != ends[1].1 {
+                        next.push(Piece {
+                            node: 2 * piece.node + half,
+                            ends,
+                            ..*piece
+                        });
+                    }
                 }
-                let part = Segment { ends, ..*segment };
-                fired += self.bisect(&part, 2 * node + half, id, (ray_check, tol), found);
             }
         }
-        fired
+        pieces.len() as u64
     }
 }

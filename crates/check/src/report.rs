@@ -195,10 +195,11 @@ impl Report {
         let unit = &self.unit;
         let _ = writeln!(
             text,
-            "checked {} regions with {} grid rays (spacing {} {unit}) and {} random rays in {:.2} s; tolerance {} {unit}",
+            "checked {} regions with {} grid rays (spacing {} {unit}), {} refinement rays and {} random rays in {:.2} s; tolerance {} {unit}",
             self.regions,
             self.grid_rays,
             fmt_g(self.spacing),
+            self.refine_rays,
             self.random_rays,
             self.seconds,
             fmt_g(self.tolerance)

@@ -82,18 +82,34 @@ impl Grid {
         (first.max(rays.start), last.min(rays.end - 1))
     }
 
-    /// The grid rays before ray `idx` along its row and across it (the
-    /// same place in the row before), each with the axis along which the
-    /// two lie apart; `None` at the start of a row, or in the first row.
-    pub(crate) fn neighbours_before(&self, idx: u64) -> [Option<(u64, usize)>; 2] {
-        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
-        let local = idx - self.first[k];
-        let row = self.n[k].0;
-        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-        [
-            (local % row > 0).then(|| (idx - 1, u)),
-            (local >= row).then(|| (idx - row, v)),
-        ]
+    /// For each of grid rays `rays`, the rays before it along its row and
+    /// across it (the same place in the row before), each with the axis
+    /// along which the two lie apart; `None` at the start of a row, or in
+    /// the first row. Counted along, without a division per ray.
+    pub(crate) fn neighbours_before(
+        &self,
+        rays: Range<u64>,
+    ) -> impl Iterator<Item = (u64, [Option<(u64, usize)>; 2])> + '_ {
+        let (mut k, mut i, mut j) = (0, 0, 0);
+        let start = rays.start;
+        rays.map(move |idx| {
+            if idx == start || idx == self.first[k + 1] {
+                k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+                let local = idx - self.first[k];
+                (i, j) = (local % self.n[k].0, local / self.n[k].0);
+            }
+            let row = self.n[k].0;
+            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+            let pair = [
+                (i > 0).then(|| (idx - 1, u)),
+                (j > 0).then(|| (idx - row, v)),
+            ];
+            i += 1;
+            if i == row {
+                (i, j) = (0, j + 1);
+            }
+            (idx, pair)
+        })
     }
 
     /// The widest cell of the three grids: its diagonal, and its longer

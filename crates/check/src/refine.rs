@@ -131,7 +131,14 @@ impl Refinement {
         if self.levels == 0 {
             return 0;
         }
-        let (segments, mut pieces) = self.segments(grid, sigs, rays);
+        let (segments, mut pieces, reach) = self.segments(grid, sigs, rays);
+        if segments.is_empty() {
+            return 0;
+        }
+        // The zones any of the rays can meet, listed once for all.
+        let listed = ray_check
+            .prepared()
+            .all_zones_in_box(&reach, &mut bundle.zones);
         let near = NEAR_CELLS * grid.widest_cell().1;
         let mut fired = 0;
         for _ in 0..self.levels {
@@ -154,8 +161,8 @@ impl Refinement {
                     .last()
                     .map_or(first + 1, |last| last + 1);
                 let group = &pieces[first..end];
-                fired +=
-                    self.fire_bundle(&segments, group, (ray_check, bundle, tol), found, &mut next);
+                let work = (&mut *ray_check, &mut *bundle, tol);
+                fired += self.fire_bundle(&segments, group, listed, work, found, &mut next);
                 first = end;
             }
             pieces = next;
@@ -164,17 +171,19 @@ impl Refinement {
     }
 
     /// The segments between neighbouring grid rays that end at `rays` and
-    /// see different things, and a piece for each (the whole segment).
+    /// see different things, a piece for each (the whole segment), and the
+    /// box their rays cross.
     fn segments(
         &self,
         grid: &Grid,
         sigs: &Signatures,
         rays: Range<u64>,
-    ) -> (Vec<Segment>, Vec<Piece>) {
+    ) -> (Vec<Segment>, Vec<Piece>, Aabb) {
         let (mut segments, mut pieces) = (Vec::new(), Vec::new());
-        for index in rays {
+        let mut reach = Aabb::EMPTY;
+        for (index, before_pair) in grid.neighbours_before(rays) {
             let Some(sig) = sigs.get(index) else { continue };
-            for (side, before) in grid.neighbours_before(index).into_iter().enumerate() {
+            for (side, before) in before_pair.into_iter().enumerate() {
                 let Some((before, w)) = before else { continue };
                 let other = match sigs.get(before) {
                     Some(other) if other != sig => other,
@@ -182,6 +191,7 @@ impl Refinement {
                 };
                 let (ray, tmax, _) = grid.ray(index);
                 let (from, _, _) = grid.ray(before);
+                reach = reach.including(from.origin).including(ray.at(tmax));
                 pieces.push(Piece {
                     segment: segments.len() as u32,
                     node: 1,
@@ -195,35 +205,33 @@ impl Refinement {
                 });
             }
         }
-        (segments, pieces)
+        (segments, pieces, reach)
     }
 
-    /// Fire the midpoints of `pieces` together, and add to `next` the
-    /// halves whose ends still see different things; the rays fired.
+    /// Fire the midpoints of `pieces` together (through the zones of
+    /// `bundle` when `listed`, else walking the hierarchy), and add to
+    /// `next` the halves whose ends still see different things; the rays
+    /// fired.
     fn fire_bundle(
         &self,
         segments: &[Segment],
         pieces: &[Piece],
+        listed: bool,
         (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
         found: &mut dyn FnMut(&RayCheck, &Ray, u64),
         next: &mut Vec<Piece>,
     ) -> u64 {
         let tmax = segments[pieces[0].segment as usize].tmax;
         bundle.rays.clear();
-        let mut reach = Aabb::EMPTY;
         for piece in pieces {
             let segment = &segments[piece.segment as usize];
             let mut ray = segment.template;
             ray.origin[segment.w] = 0.5 * (piece.ends[0].0 + piece.ends[1].0);
-            reach = reach.including(ray.origin).including(ray.at(tmax));
             bundle.rays.push(ray);
         }
         bundle
             .parts
             .resize_with(pieces.len().max(bundle.parts.len()), Vec::new);
-        let listed = ray_check
-            .prepared()
-            .all_zones_in_box(&reach, &mut bundle.zones);
         let zones = listed.then_some(&bundle.zones[..]);
         ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, &mut bundle.parts);
         for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {

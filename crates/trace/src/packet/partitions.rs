@@ -177,7 +177,11 @@ impl HeldSpans {
         if first | second == 0 {
             return;
         }
-        for (j, lane) in tagged.iter_mut().enumerate() {
+        let mut lanes = first | second;
+        while lanes != 0 {
+            let j = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let lane = &mut tagged[j];
             if first & (1 << j) != 0 {
                 lane.push((self.region, lane_span(&self.cur, j)));
             }

@@ -83,9 +83,9 @@ impl Totals {
 }
 
 /// Chunks fired at once, whose findings are then handed on before the
-/// next: a million rays' findings and signatures held at a time, however
-/// many rays.
-const BATCH: u64 = 4096;
+/// next: a quarter of a million rays' findings and signatures held at a
+/// time, however many rays.
+const BATCH: u64 = 1024;
 
 /// Fire the chunks `chunks` of the grid and random rays on the rayon pool,
 /// each followed by the refinement rays of the neighbouring grid rays that

@@ -78,11 +78,21 @@ impl<'a> RayCheck<'a> {
         }
     }
 
+    /// The prepared geometry the rays are cast through.
+    pub(crate) fn prepared(&self) -> &sv_trace::Prepared {
+        &self.model.prepared
+    }
+
     /// Only the partitions of the ray within `(tmin, tmax)`, clipped.
     pub fn partitions(&mut self, ray: &Ray, tmin: f64, tmax: f64) {
         self.model
             .prepared
             .partitions(ray, tmin, tmax, &mut self.s, &mut self.parts);
+        self.clip(tmin, tmax);
+    }
+
+    /// The partitions clipped to `(tmin, tmax)`.
+    fn clip(&mut self, tmin: f64, tmax: f64) {
         for p in &mut self.parts {
             p.span.a.t = p.span.a.t.max(tmin);
             p.span.b.t = p.span.b.t.min(tmax);
@@ -94,6 +104,53 @@ impl<'a> RayCheck<'a> {
     pub fn run(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
         self.findings.clear();
         self.partitions(ray, tmin, tmax);
+        self.classify(ray, tmin, tmax, tol);
+    }
+
+    /// The partitions of each of `rays` within `(tmin, tmax)` (unclipped)
+    /// into the same places of `out`, several at once where the processor
+    /// can: `zones` must hold every zone whose bounds any of them meets
+    /// there; `None`, walk the hierarchy.
+    pub(crate) fn partitions_of_rays(
+        &mut self,
+        zones: Option<&[u32]>,
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        out: &mut [Vec<Partition>],
+    ) {
+        let prepared = &self.model.prepared;
+        match zones {
+            Some(zones) => {
+                prepared.partitions_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out)
+            }
+            None => {
+                for (ray, parts) in rays.iter().zip(out) {
+                    prepared.partitions(ray, tmin, tmax, &mut self.s, parts);
+                }
+            }
+        }
+    }
+
+    /// [`RayCheck::run`] of a ray whose partitions within `(tmin, tmax)`
+    /// are already in `parts` (from [`RayCheck::partitions_of_rays`]),
+    /// which it takes in exchange for the last ray's.
+    pub(crate) fn run_on(
+        &mut self,
+        parts: &mut Vec<Partition>,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        tol: f64,
+    ) {
+        self.findings.clear();
+        std::mem::swap(&mut self.parts, parts);
+        self.clip(tmin, tmax);
+        self.classify(ray, tmin, tmax, tol);
+    }
+
+    /// The problems along the ray of the partitions in `self.parts`.
+    fn classify(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
         let parts = &self.parts;
         for (index, part) in parts.iter().enumerate() {
             for later in &parts[index + 1..] {

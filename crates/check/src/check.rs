@@ -1,15 +1,18 @@
 //! `check`: overlaps and voids by grids of rays.
 
-use crate::analyse::{FindingKind, RayCheck};
+use crate::analyse::FindingKind;
+use crate::fire::{fire_chunks, Acc, ChunkFindings, Totals, CHUNK};
+use crate::grid::{cells, Grid};
 use crate::model::{CheckError, Model};
-use crate::report::{fmt_g, Outside, Overlap, Problem, Report, UniverseInfo, Void};
-use crate::rng::uniform;
-use rayon::prelude::*;
+use crate::refine::Refinement;
+use crate::report::{
+    fmt_g, Outside, Overlap, Problem, Report, SmallestFeature, UniverseInfo, Void,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::time::Instant;
-use sv_math::{Aabb, DVec3, Ray};
+use sv_math::{Aabb, DVec3};
 
 /// Options for [`check`].
 #[derive(Clone, Debug)]
@@ -37,6 +40,13 @@ pub struct CheckOptions {
     /// closely at part of a model, or at a model without finite regions).
     /// Nothing outside it is checked.
     pub bounds: Option<sv_math::Aabb>,
+    /// Halvings of the spacing down to which rays are added between
+    /// neighbouring grid rays that see different regions (0: none); see
+    /// [`refine_levels`]. Default 4: down to a sixteenth of the spacing.
+    pub refine: u32,
+    /// Refine down to this distance instead (as many halvings of the
+    /// spacing as bring it there; none when it is not below the spacing).
+    pub refine_to: Option<f64>,
     /// Count overlaps with air regions as problems. By default they are
     /// listed apart ([`Report::air_overlaps`]) and do not make the report
     /// unclean: GIFT and BRL-CAD let an air region give way to a solid one,
@@ -55,129 +65,34 @@ impl Default for CheckOptions {
             max_rays: 50_000_000,
             strict_air: false,
             bounds: None,
+            refine: 4,
+            refine_to: None,
         }
     }
 }
 
-/// The summed stretches of one kind of finding.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-struct Acc {
-    total: f64,
-    weighted: f64,
-    max: f64,
-    point: DVec3,
-    at: u64,
-    hits: u64,
-}
+/// The most halvings of the spacing a check refines by.
+pub const MAX_REFINE: u32 = 20;
 
-impl Acc {
-    fn merge(&mut self, o: &Acc) {
-        self.total += o.total;
-        self.weighted += o.weighted;
-        self.hits += o.hits;
-        if o.max > self.max || (o.max == self.max && o.at < self.at) {
-            self.max = o.max;
-            self.point = o.point;
-            self.at = o.at;
-        }
+/// The halvings of `spacing` that bring it down to `finest` or below (at
+/// most [`MAX_REFINE`]): the [`CheckOptions::refine`] for refining down to
+/// a length. Zero when `finest` is not below the spacing.
+pub fn refine_levels(spacing: f64, finest: f64) -> u32 {
+    if !(finest > 0.0 && finest < spacing) {
+        return 0;
     }
+    let levels = (spacing / finest).log2().ceil();
+    (levels as u32).clamp(1, MAX_REFINE)
 }
 
-/// The grid of one check: per axis, counts and cell sizes.
-struct Grid {
-    lo: DVec3,
-    size: DVec3,
-    pad: f64,
-    n: [(u64, u64); 3],
-    cell: [(f64, f64); 3],
-    first: [u64; 4],
-}
-
-/// Grid cells of about `d` across `len`: rounding noise (2/0.01 =
-/// 200.00000000000003) does not add a cell.
-fn cells(len: f64, d: f64) -> f64 {
-    (len / d * (1.0 - 1e-12)).ceil()
-}
-
-const FRAC_U: f64 = 0.561_803_398_874_989_5;
-const FRAC_V: f64 = 0.458_578_643_762_690_5;
-
-impl Grid {
-    fn new(lo: DVec3, hi: DVec3, d: f64) -> Grid {
-        let size = hi - lo;
-        let count = |len: f64| (cells(len, d) as u64).max(1);
-        let mut n = [(0, 0); 3];
-        let mut cell = [(0.0, 0.0); 3];
-        let mut first = [0u64; 4];
-        for k in 0..3 {
-            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-            n[k] = (count(size[u]), count(size[v]));
-            cell[k] = (size[u] / n[k].0 as f64, size[v] / n[k].1 as f64);
-            first[k + 1] = first[k] + n[k].0 * n[k].1;
-        }
-        Grid {
-            lo,
-            size,
-            pad: 0.01 * size.length() + 1e-9,
-            n,
-            cell,
-            first,
-        }
-    }
-
-    fn total(&self) -> u64 {
-        self.first[3]
-    }
-
-    /// Ray `idx` of the grid, its t range and the area it stands for.
-    fn ray(&self, idx: u64) -> (Ray, f64, f64) {
-        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
-        let local = idx - self.first[k];
-        let (i, j) = (local % self.n[k].0, local / self.n[k].0);
-        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-        let mut o = DVec3::ZERO;
-        o[k] = self.lo[k] - self.pad;
-        o[u] = self.lo[u] + (i as f64 + FRAC_U) * self.cell[k].0;
-        o[v] = self.lo[v] + (j as f64 + FRAC_V) * self.cell[k].1;
-        let mut dir = DVec3::ZERO;
-        dir[k] = 1.0;
-        (
-            Ray::new(o, dir),
-            self.size[k] + 2.0 * self.pad,
-            self.cell[k].0 * self.cell[k].1,
-        )
-    }
-}
-
-/// A random ray through a random point of the box, and its range inside
-/// the padded box.
-fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)> {
-    let r = |c: u64| uniform(seed, i, c, 0x5eed);
-    let z = 2.0 * r(0) - 1.0;
-    let phi = std::f64::consts::TAU * r(1);
-    let s = (1.0 - z * z).max(0.0).sqrt();
-    let dir = DVec3::new(s * phi.cos(), s * phi.sin(), z);
-    let p = lo + (hi - lo) * DVec3::new(r(2), r(3), r(4));
-    let pad = 0.01 * (hi - lo).length() + 1e-9;
-    let bx = sv_math::Aabb::new(lo, hi).padded(pad);
-    let ray = Ray::new(p - dir * (2.0 * (hi - lo).length() + 1.0), dir);
-    bx.ray_range(&ray).map(|(a, b)| (ray, a.max(0.0), b))
-}
-
-/// Rays are fired in chunks of this many; the chunks' findings are summed
-/// in chunk order, so the sums depend neither on the number of threads
-/// nor on how the chunks are shared out ([`check_part`]).
-const CHUNK: u64 = 256;
-
-/// One chunk's findings by kind, in order of kind.
-type ChunkFindings = Vec<(FindingKind, Acc)>;
-
-/// What a check fires: the box, the grid through it and the tolerance.
-struct Plan {
-    checked_box: Aabb,
-    spacing: f64,
-    tolerance: f64,
-    grid: Grid,
+/// What a check fires: the box, the grid through it, the tolerance and
+/// the refinement.
+pub(crate) struct Plan {
+    pub checked_box: Aabb,
+    pub spacing: f64,
+    pub tolerance: f64,
+    pub grid: Grid,
+    pub refinement: Refinement,
 }
 
 impl Plan {
@@ -195,12 +110,32 @@ impl Plan {
             None => (1e-5 * checked_box.size().length()).max(1e-12),
         };
         check_ray_counts(checked_box.size(), spacing, opts)?;
+        let levels = match opts.refine_to {
+            Some(d) if d > 0.0 && d.is_finite() => refine_levels(spacing, d),
+            Some(d) => {
+                return Err(CheckError::Option(format!(
+                    "the refinement distance must be positive, found {d}"
+                )))
+            }
+            None if opts.refine > MAX_REFINE => {
+                return Err(CheckError::Option(format!(
+                "refinement by {} halvings of the spacing is more than the limit of {MAX_REFINE}",
+                opts.refine
+            )))
+            }
+            None => opts.refine,
+        };
         let grid = Grid::new(checked_box.min, checked_box.max, spacing);
+        let refinement = Refinement {
+            levels,
+            first_index: grid.total() + opts.random,
+        };
         Ok(Plan {
             checked_box,
             spacing,
             tolerance,
             grid,
+            refinement,
         })
     }
 
@@ -220,6 +155,8 @@ pub struct CheckPart {
     found: Vec<ChunkFindings>,
     /// The regions any ray of the share met.
     seen: Vec<bool>,
+    /// Refinement rays fired.
+    refine_rays: u64,
 }
 
 /// How many chunks of rays a check with `opts` fires: [`check_part`]
@@ -237,11 +174,15 @@ pub fn check_part(
 ) -> Result<CheckPart, CheckError> {
     let plan = Plan::new(model, opts)?;
     let chunks = chunks.start.min(plan.chunk_count(opts))..chunks.end.min(plan.chunk_count(opts));
-    let (found, seen) = fire_rays(model, &plan, opts, chunks.clone());
+    let mut found = Vec::with_capacity(chunks.end.saturating_sub(chunks.start) as usize);
+    let (seen, refine_rays) = fire_chunks(model, &plan, opts, chunks.clone(), &mut |chunk| {
+        found.push(chunk)
+    });
     Ok(CheckPart {
         chunks,
         found,
         seen,
+        refine_rays,
     })
 }
 
@@ -274,7 +215,13 @@ pub fn check_merge(
             plan.chunk_count(opts)
         )));
     }
-    Ok(report(model, opts, &plan, &ordered, start))
+    let mut totals = Totals::new(model.names.len());
+    for part in ordered {
+        part.found.iter().for_each(|chunk| totals.add_chunk(chunk));
+        totals.add_seen(&part.seen);
+        totals.refine_rays += part.refine_rays;
+    }
+    Ok(report(model, opts, &plan, totals, start))
 }
 
 /// Fire the grids (and random rays) through `model` and gather every
@@ -283,37 +230,29 @@ pub fn check_merge(
 pub fn check(model: &Model, opts: &CheckOptions) -> Result<Report, CheckError> {
     let start = Instant::now();
     let plan = Plan::new(model, opts)?;
+    let mut totals = Totals::new(model.names.len());
     let chunks = 0..plan.chunk_count(opts);
-    let (found, seen) = fire_rays(model, &plan, opts, chunks.clone());
-    let part = CheckPart {
-        chunks,
-        found,
-        seen,
-    };
-    Ok(report(model, opts, &plan, &[&part], start))
+    let (seen, refine_rays) = fire_chunks(model, &plan, opts, chunks, &mut |chunk| {
+        totals.add_chunk(&chunk)
+    });
+    totals.add_seen(&seen);
+    totals.refine_rays = refine_rays;
+    Ok(report(model, opts, &plan, totals, start))
 }
 
-/// The report of the chunks of `parts`, summed in chunk order.
+/// The report of the findings summed in `totals`.
 fn report(
     model: &Model,
     opts: &CheckOptions,
     plan: &Plan,
-    parts: &[&CheckPart],
+    totals: Totals,
     start: Instant,
 ) -> Report {
-    let mut findings: HashMap<FindingKind, Acc> = HashMap::new();
-    let mut seen = vec![false; model.names.len()];
-    for part in parts {
-        for (any, this) in seen.iter_mut().zip(&part.seen) {
-            *any |= this;
-        }
-        for (kind, acc) in part.found.iter().flatten() {
-            findings
-                .entry(*kind)
-                .and_modify(|sum| sum.merge(acc))
-                .or_insert(*acc);
-        }
-    }
+    let Totals {
+        found: findings,
+        mut seen,
+        refine_rays,
+    } = totals;
     // A lattice-filled cell is seen when its contents are.
     model.container_seen(&mut seen);
     let sorted = sort_findings(model, findings, opts.strict_air);
@@ -342,6 +281,9 @@ fn report(
         grid_rays: plan.grid.total(),
         random_rays: opts.random,
         tolerance: plan.tolerance,
+        refine: plan.refinement.levels,
+        refine_rays,
+        smallest_feature: smallest_feature(plan, &model.unit),
         universe: model
             .universe_note
             .clone()
@@ -353,6 +295,29 @@ fn report(
         unseen,
         beyond_box,
         seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// What the grid and refinement of `plan` are sure to meet.
+fn smallest_feature(plan: &Plan, unit: &str) -> SmallestFeature {
+    let (diagonal, side) = plan.grid.widest_cell();
+    let levels = plan.refinement.levels;
+    let at_edges = (levels > 0).then(|| side / f64::from(1u32 << levels));
+    let mut note = format!(
+        "sure to meet: any overlap or void whose cross-section across an axis holds a circle of {} {unit} (the grid's cell diagonal)",
+        fmt_g(diagonal)
+    );
+    match at_edges {
+        Some(thick) => note.push_str(&format!(
+            "; where neighbouring rays see different regions, slivers {} {unit} thick (refined {levels} times)",
+            fmt_g(thick)
+        )),
+        None => note.push_str("; no refinement"),
+    }
+    SmallestFeature {
+        anywhere: diagonal,
+        at_edges,
+        note,
     }
 }
 
@@ -418,75 +383,6 @@ fn check_ray_counts(size: DVec3, spacing: f64, opts: &CheckOptions) -> Result<()
         )));
     }
     Ok(())
-}
-
-/// Fire the chunks `chunks` of the grid and random rays on the rayon
-/// pool: per chunk, every kind of finding with its stretches summed (in
-/// order of kind), and which regions any ray met.
-fn fire_rays(
-    model: &Model,
-    plan: &Plan,
-    opts: &CheckOptions,
-    chunks: Range<u64>,
-) -> (Vec<ChunkFindings>, Vec<bool>) {
-    let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
-    let grid_rays = grid.total();
-    let all_rays = grid_rays + opts.random;
-    let region_count = model.names.len();
-    let fired: Vec<(ChunkFindings, Vec<bool>)> = chunks
-        .into_par_iter()
-        .map_init(
-            || RayCheck::new(model),
-            |ray_check, chunk| {
-                let mut found: HashMap<FindingKind, Acc> = HashMap::new();
-                let mut seen = vec![false; region_count];
-                for index in chunk * CHUNK..((chunk + 1) * CHUNK).min(all_rays) {
-                    let (ray, t0, t1, area) = if index < grid_rays {
-                        let (ray, t1, area) = grid.ray(index);
-                        (ray, 0.0, t1, area)
-                    } else {
-                        let random_index = index - grid_rays;
-                        match random_ray(checked_box.min, checked_box.max, opts.seed, random_index)
-                        {
-                            Some((ray, t0, t1)) => (ray, t0, t1, 0.0),
-                            None => continue,
-                        }
-                    };
-                    ray_check.run(&ray, t0, t1, tolerance);
-                    for part in &ray_check.parts {
-                        seen[part.region as usize] = true;
-                    }
-                    for finding in &ray_check.findings {
-                        let length = finding.t1 - finding.t0;
-                        let stretch = Acc {
-                            total: length,
-                            weighted: length * area,
-                            max: length,
-                            point: ray.at(0.5 * (finding.t0 + finding.t1)),
-                            at: index,
-                            hits: 1,
-                        };
-                        found
-                            .entry(finding.kind)
-                            .and_modify(|acc| acc.merge(&stretch))
-                            .or_insert(stretch);
-                    }
-                }
-                let mut entries: Vec<_> = found.into_iter().collect();
-                entries.sort_by_key(|entry| entry.0);
-                (entries, seen)
-            },
-        )
-        .collect();
-    let mut seen = vec![false; region_count];
-    let mut found = Vec::with_capacity(fired.len());
-    for (entries, chunk_seen) in fired {
-        for (any, this) in seen.iter_mut().zip(chunk_seen) {
-            *any |= this;
-        }
-        found.push(entries);
-    }
-    (found, seen)
 }
 
 /// The findings of a check, by kind, each list largest first.

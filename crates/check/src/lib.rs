@@ -44,9 +44,12 @@ mod axes;
 mod check;
 mod colour;
 mod diff;
+mod fire;
+mod grid;
 mod legend;
 mod model;
 mod overlay;
+mod refine;
 mod report;
 mod rng;
 mod slice;
@@ -54,7 +57,10 @@ mod volume;
 
 pub use analyse::{analyse_ray, Finding, FindingKind, RayCheck};
 pub use axes::with_axes;
-pub use check::{check, check_chunks, check_merge, check_part, CheckOptions, CheckPart};
+pub use check::{
+    check, check_chunks, check_merge, check_part, refine_levels, CheckOptions, CheckPart,
+    MAX_REFINE,
+};
 pub use colour::{region_colour, OVERLAP_COLOUR, VOID_COLOUR};
 pub use diff::{
     diff, diff_picture, ClassVolume, DiffOptions, DiffPicture, DiffReport, DiffSide, Place,
@@ -63,6 +69,6 @@ pub use diff::{
 pub use legend::{legend_entries, with_legend, with_legend_entries, Swatch};
 pub use model::{default_tolerance, CheckError, Model, Universe, UniverseChoice};
 pub use overlay::{camera_overlaps, overlap_pixels, OverlapPixels, PairSeen};
-pub use report::{Outside, Overlap, Problem, Report, UniverseInfo, Void};
+pub use report::{Outside, Overlap, Problem, Report, SmallestFeature, UniverseInfo, Void};
 pub use slice::{slice, LegendEntry, Plane, Slice, SliceOptions};
 pub use volume::{volumes, RegionVolume, VolumeOptions, VolumeReport};

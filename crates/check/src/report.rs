@@ -55,6 +55,24 @@ pub struct Outside {
     pub problem: Problem,
 }
 
+/// The smallest overlap or void a check is sure to meet, given its grid
+/// and refinement (model units), as long as it is longer than the
+/// tolerance along the rays that cross it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SmallestFeature {
+    /// Anywhere: one whose cross-section across one of the axes holds a
+    /// circle of this diameter (the diagonal of a grid cell, at most 1.42
+    /// times the spacing) is met by a grid ray.
+    pub anywhere: f64,
+    /// Where neighbouring grid rays see different regions (the edges of
+    /// parts, where slivers lie), rays are added down to this distance
+    /// apart: a sliver there at least this thick across the rays is met.
+    /// `None` without refinement.
+    pub at_edges: Option<f64>,
+    /// The same in words.
+    pub note: String,
+}
+
 /// The universe a check used.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct UniverseInfo {
@@ -79,6 +97,13 @@ pub struct Report {
     pub random_rays: u64,
     /// Tolerance used.
     pub tolerance: f64,
+    /// Halvings of the spacing down to which rays were added between
+    /// neighbouring grid rays that see different regions (0: none).
+    pub refine: u32,
+    /// Rays added by the refinement.
+    pub refine_rays: u64,
+    /// The smallest problem the rays are sure to meet.
+    pub smallest_feature: SmallestFeature,
     /// The universe, if voids were looked for.
     pub universe: Option<UniverseInfo>,
     /// Overlapping pairs, most severe (largest total length) first. Pairs
@@ -170,14 +195,16 @@ impl Report {
         let unit = &self.unit;
         let _ = writeln!(
             text,
-            "checked {} regions with {} grid rays (spacing {} {unit}) and {} random rays in {:.2} s; tolerance {} {unit}",
+            "checked {} regions with {} grid rays (spacing {} {unit}), {} refinement rays and {} random rays in {:.2} s; tolerance {} {unit}",
             self.regions,
             self.grid_rays,
             fmt_g(self.spacing),
+            self.refine_rays,
             self.random_rays,
             self.seconds,
             fmt_g(self.tolerance)
         );
+        let _ = writeln!(text, "{}", self.smallest_feature.note);
         let [lower, upper] = &self.bounds;
         let _ = writeln!(
             text,

@@ -312,6 +312,8 @@ fn check_options(
                 opts.spacing = Some(spacing);
             }
             "random" => opts.random = value.extract()?,
+            "refine" => opts.refine = value.extract()?,
+            "refine_to" => opts.refine_to = Some(value.extract()?),
             "seed" => opts.seed = value.extract()?,
             "tolerance" => opts.tolerance = Some(value.extract()?),
             "strict_air" => strict_air |= value.extract::<bool>()?,
@@ -322,8 +324,8 @@ fn check_options(
             "universe" => universe = universe_choice(Some(&value))?,
             other => {
                 return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                    "check: unexpected option `{other}`; use spacing, random, box_, seed, \
-                     strict_air, tolerance or universe"
+                    "check: unexpected option `{other}`; use spacing, random, refine, \
+                     refine_to, box_, seed, strict_air, tolerance or universe"
                 )))
             }
         }

@@ -458,7 +458,9 @@ impl Model {
     }
 
     /// Overlaps and voids, as the CLI's `check --json`: a dict. Options:
-    /// `spacing`, `random` (0), `box_` ((x0, y0, z0), (x1, y1, z1)),
+    /// `spacing`, `random` (0), `refine` (halvings of the spacing between
+    /// neighbouring rays that see different regions, 4; 0 for none) or
+    /// `refine_to` (a length), `box_` ((x0, y0, z0), (x1, y1, z1)),
     /// `seed` (1971), `strict_air`, `tolerance`, `universe` (None looks
     /// for one, False uses none, a name names it).
     #[pyo3(signature = (**options))]

@@ -81,6 +81,9 @@ def test_check_matches_the_cli(helicopter, run_cli):
     assert without_seconds(report) == without_seconds(json.loads(printed.stdout))
     spheres = sv.load(SPHERES).check()
     assert spheres["overlaps"][0]["regions"] == ["A", "B"]
+    assert spheres["refine"] == 4 and spheres["refine_rays"] > 0
+    plain = sv.load(SPHERES).check(refine=0)
+    assert plain["refine_rays"] == 0 and plain["smallest_feature"]["at_edges"] is None
 
 
 def test_volume_matches_the_cli(helicopter, run_cli):

@@ -2,6 +2,7 @@
 //! the zones' boxes and enclosures, where a zone may be seen on a raster,
 //! and the zones in a box (shadow rays toward a point light).
 
+use crate::bvh::Bvh;
 use crate::prepare::{EnclosureRef, Prepared};
 use crate::raster::rect_of;
 use sv_math::{Aabb, DVec3, Ray, RayGen};
@@ -69,9 +70,28 @@ impl Prepared {
         meets: impl Fn(&Aabb) -> bool,
         keep: impl Fn(u32) -> bool,
     ) -> bool {
+        self.zones_of(
+            (&self.bvh_opaque, &self.unbounded_opaque),
+            max,
+            out,
+            meets,
+            keep,
+        )
+    }
+
+    /// [`Prepared::zones_meeting`] over the hierarchy `bvh` and the
+    /// unbounded zones `unbounded`.
+    fn zones_of(
+        &self,
+        (bvh, unbounded): (&Bvh, &[u32]),
+        max: usize,
+        out: &mut Vec<u32>,
+        meets: impl Fn(&Aabb) -> bool,
+        keep: impl Fn(u32) -> bool,
+    ) -> bool {
         out.clear();
-        out.extend_from_slice(&self.unbounded_opaque);
-        let nodes = &self.bvh_opaque.nodes;
+        out.extend_from_slice(unbounded);
+        let nodes = &bvh.nodes;
         let mut stack = [0u32; 64];
         let mut sp = usize::from(!nodes.is_empty());
         while sp > 0 {
@@ -81,8 +101,7 @@ impl Prepared {
                 continue;
             }
             if node.count > 0 {
-                let items =
-                    &self.bvh_opaque.items[node.first as usize..(node.first + node.count) as usize];
+                let items = &bvh.items[node.first as usize..(node.first + node.count) as usize];
                 out.extend(
                     items
                         .iter()
@@ -112,6 +131,22 @@ impl Prepared {
     pub fn zones_in_box(&self, from: &Aabb, max: usize, out: &mut Vec<u32>) -> bool {
         let near = from.padded(self.tol);
         self.zones_meeting(max, out, |b| !b.intersection(&near).is_empty(), |_| true)
+    }
+
+    /// The zones of every region, transparent ones too, whose bounds meet
+    /// the box `from` (unbounded zones first): the list
+    /// [`Prepared::partitions_in`] needs for rays that cross `from` within
+    /// their range. False when the hierarchy is too deep to list them
+    /// (use [`Prepared::partitions`] then).
+    pub fn all_zones_in_box(&self, from: &Aabb, out: &mut Vec<u32>) -> bool {
+        let near = from.padded(self.tol);
+        self.zones_of(
+            (&self.bvh_all, &self.unbounded_all),
+            usize::MAX,
+            out,
+            |b| !b.intersection(&near).is_empty(),
+            |_| true,
+        )
     }
 }
 

@@ -285,6 +285,11 @@ impl Prepared {
         self.bounds
     }
 
+    /// Bounds of zone `zi` (as listed by [`Prepared::all_zones_in_box`]).
+    pub fn zone_bounds(&self, zi: u32) -> Aabb {
+        self.zones[zi as usize].bounds
+    }
+
     /// Bounds of region `r`'s zones in this universe (empty when it has
     /// none here; infinite sides where a zone is unbounded).
     pub fn region_bounds(&self, r: usize) -> Aabb {

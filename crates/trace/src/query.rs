@@ -6,7 +6,7 @@ use crate::bvh::{hits, Bvh};
 use crate::hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
 use crate::prepare::Prepared;
 use crate::raster::entry_of;
-use sv_geom::boolean::{push_merged, Bound};
+use sv_geom::boolean::{Bound, Span};
 use sv_math::{DVec3, Ray};
 
 impl Prepared {
@@ -289,6 +289,53 @@ impl Prepared {
         s: &mut Scratch,
         out: &mut Vec<Partition>,
     ) {
+        self.gather_partitions(ray, tmin, tmax, s, out, |collect, s| {
+            for &zi in &self.unbounded_all {
+                collect(zi, s);
+            }
+            let mut limit = tmax;
+            self.leaves(&self.bvh_all, ray, tmin, &mut limit, s, |items, _, s| {
+                for &zi in items {
+                    collect(zi, s);
+                }
+                false
+            });
+        });
+    }
+
+    /// [`Prepared::partitions`] looking only at `zones`, which must hold
+    /// every zone whose bounds the ray meets within `(tmin, tmax)` (as
+    /// [`Prepared::all_zones_in_box`] lists them for a box the ray crosses
+    /// there): the same stretches, without walking the hierarchy. For
+    /// bundles of rays that share one list, such as a grid's.
+    pub fn partitions_in(
+        &self,
+        zones: &[u32],
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<Partition>,
+    ) {
+        self.gather_partitions(ray, tmin, tmax, s, out, |collect, s| {
+            for &zi in zones {
+                collect(zi, s);
+            }
+        });
+    }
+
+    /// The partitions of the zones `walk` hands to its `collect` whose
+    /// bounds the ray meets, each region's zones unioned, sorted by entry
+    /// then region.
+    fn gather_partitions(
+        &self,
+        ray: &Ray,
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut Vec<Partition>,
+        walk: impl FnOnce(&mut dyn FnMut(u32, &mut Scratch), &mut Scratch),
+    ) {
         s.new_ray();
         out.clear();
         let mut tagged = std::mem::take(&mut s.tagged);
@@ -304,39 +351,29 @@ impl Prepared {
                 tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
             }
         };
-        for &zi in &self.unbounded_all {
-            collect(zi, s);
-        }
-        let mut limit = tmax;
-        self.leaves(&self.bvh_all, ray, tmin, &mut limit, s, |items, _, s| {
-            for &zi in items {
-                collect(zi, s);
-            }
-            false
-        });
-        // Union the zones of each region.
-        tagged.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.a.t.total_cmp(&b.1.a.t)));
-        let mut i = 0;
-        while i < tagged.len() {
-            let r = tagged[i].0;
-            s.tmp.clear();
-            while i < tagged.len() && tagged[i].0 == r {
-                push_merged(&mut s.tmp, tagged[i].1, self.tol);
-                i += 1;
-            }
-            out.extend(s.tmp.iter().map(|sp| Partition {
-                region: r,
-                span: *sp,
-            }));
-        }
-        out.sort_by(|a, b| {
-            a.span
-                .a
-                .t
-                .total_cmp(&b.span.a.t)
-                .then(a.region.cmp(&b.region))
-        });
+        walk(&mut collect, s);
+        self.union_partitions(&mut tagged, out);
         s.tagged = tagged;
+    }
+
+    /// The stretches of `tagged` (spans of zones, each with its region)
+    /// unioned region by region into `out`, sorted by entry then region.
+    /// Taken in that order, each span extends the region's last stretch
+    /// when it starts within the tolerance of its end, or starts a new
+    /// one: the stretches come out in order, and each region's spans are
+    /// unioned in the order of their entries, ties in the order given.
+    pub(crate) fn union_partitions(&self, tagged: &mut [(u32, Span)], out: &mut Vec<Partition>) {
+        tagged.sort_by(|a, b| a.1.a.t.total_cmp(&b.1.a.t).then(a.0.cmp(&b.0)));
+        for &(region, span) in tagged.iter() {
+            match out.iter_mut().rev().find(|p| p.region == region) {
+                Some(last) if span.a.t <= last.span.b.t + self.tol => {
+                    if span.b.t > last.span.b.t {
+                        last.span.b = span.b;
+                    }
+                }
+                _ => out.push(Partition { region, span }),
+            }
+        }
     }
 
     /// Every surface crossing along the ray for `t > tmin`, in order: where

@@ -6,6 +6,7 @@ mod diffs;
 mod lattices;
 mod overlaps;
 mod slices;
+mod slivers;
 mod voids;
 mod volumes;
 

@@ -130,15 +130,20 @@ REGION A = +a
 REGION B = +b
 ";
     let m = model(text, UniverseChoice::None);
-    let loose = check(
-        &m,
-        &CheckOptions {
-            tolerance: Some(0.01),
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    assert!(loose.is_clean(), "{}", loose.to_table());
+    // The grid's rays cross the sliver or miss it.
+    let loose = CheckOptions {
+        tolerance: Some(0.01),
+        refine: 0,
+        ..Default::default()
+    };
+    let grid_only = check(&m, &loose).unwrap();
+    assert!(grid_only.is_clean(), "{}", grid_only.to_table());
+    // Refinement rays between the grid rays on either side of x = 1 run
+    // inside it, along its whole length: a stretch far longer than the
+    // tolerance.
+    let refined = check(&m, &CheckOptions { refine: 4, ..loose }).unwrap();
+    assert_eq!(refined.overlaps.len(), 1, "{}", refined.to_table());
+    assert!(refined.overlaps[0].problem.max_length > 0.9);
     let strict = check(
         &m,
         &CheckOptions {
@@ -190,6 +195,9 @@ fn json_report_has_the_documented_shape() {
         "grid_rays",
         "random_rays",
         "tolerance",
+        "refine",
+        "refine_rays",
+        "smallest_feature",
         "universe",
         "overlaps",
         "air_overlaps",
@@ -211,6 +219,12 @@ fn json_report_has_the_documented_shape() {
         "region_indices",
     ] {
         assert!(o.get(key).is_some(), "missing overlaps[].{key}");
+    }
+    for key in ["anywhere", "at_edges", "note"] {
+        assert!(
+            v["smallest_feature"].get(key).is_some(),
+            "missing smallest_feature.{key}"
+        );
     }
     assert!(v["universe"].is_null());
     assert_eq!(v["regions"], 2);

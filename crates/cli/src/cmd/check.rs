@@ -22,6 +22,15 @@ pub struct CheckArgs {
     /// rays in all, as a cube with 200 rays per side).
     #[arg(long, value_name = "D", value_parser = crate::parse::positive, allow_hyphen_values = true)]
     pub spacing: Option<f64>,
+    /// Add rays between neighbouring grid rays that see different
+    /// regions, by halving, down to this distance apart (model units), so
+    /// that slivers at the edges of parts thinner than the spacing are
+    /// found (default: a sixteenth of the spacing).
+    #[arg(long, value_name = "D", value_parser = crate::parse::positive, allow_hyphen_values = true, conflicts_with = "no_refine")]
+    pub refine_to: Option<f64>,
+    /// Fire the grids only, without refinement.
+    #[arg(long)]
+    pub no_refine: bool,
     /// Extra rays in random directions.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub random: u64,
@@ -92,6 +101,12 @@ pub fn check(args: CheckArgs) -> Result<ExitCode, CliError> {
         random: args.random,
         seed: args.seed,
         strict_air: args.strict_air || input.strict_air(),
+        refine: if args.no_refine {
+            0
+        } else {
+            CheckOptions::default().refine
+        },
+        refine_to: args.refine_to,
         ..Default::default()
     };
     let spinner = crate::term::Spinner::start("checking for overlaps and voids");

@@ -40,6 +40,14 @@ fn bad_input_exits_2() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("nowhere"));
     let o = run(bin().args(["check", "--spacing", "-1"]).arg(&good));
     assert_eq!(o.status.code(), Some(2));
+    for refine in [
+        &["--refine-to", "0"][..],
+        &["--refine-to", "nan"],
+        &["--refine-to", "0.1", "--no-refine"],
+    ] {
+        let o = run(bin().arg("check").args(refine).arg(&good));
+        assert_eq!(o.status.code(), Some(2), "{refine:?}");
+    }
     let o = run(bin().args(["volume", "--rel-error", "0"]).arg(&good));
     assert_eq!(o.status.code(), Some(2));
     // A bad plane writes nothing.
@@ -206,4 +214,39 @@ fn fluka_inputs_count_overlaps_with_vacuum() {
     );
     let legend: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(legend["overlaps"][0]["label"], "SOLID × GAS");
+}
+
+/// A rod sunk 0.1 into a block, between the rays of a grid of spacing 1
+/// (see sv-check's slivers tests).
+const SLIVER: &str = "BODY block RPP 0 10 0 10 0 10\nBODY rod RCC (10.4,5.06,0) (0,0,10) 0.5\n\
+                      REGION BLOCK = +block\nREGION ROD = +rod\n";
+
+#[test]
+fn refinement_is_on_by_default_and_reported() {
+    let d = dir("check_refine");
+    let deck = write(&d, "sliver.sv", SLIVER);
+    let grid = ["check", "--spacing", "1", "--box", "0,0,0,20,11,10"];
+    let o = run(bin().args(grid).arg("--no-refine").arg(&deck));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("no refinement"));
+    let o = run(bin().args(grid).arg(&deck));
+    assert_eq!(o.status.code(), Some(1));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("BLOCK × ROD") && out.contains("refined 4 times"),
+        "{out}"
+    );
+    let o = run(bin()
+        .args(grid)
+        .args(["--refine-to", "0.01", "--json"])
+        .arg(&deck));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["refine"], 7);
+    assert_eq!(v["smallest_feature"]["at_edges"], 1.0 / 128.0);
+    assert!(v["refine_rays"].as_u64().unwrap() > 0);
 }

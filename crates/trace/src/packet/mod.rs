@@ -96,6 +96,7 @@ macro_rules! compiled_for_each {
     };
 }
 
+mod partitions;
 mod primary;
 mod shadow;
 
@@ -631,8 +632,7 @@ impl Prepared {
     /// [`Prepared::zone_spans`]' first span for the lanes of `m`, for a
     /// zone of [`PreparedZone::lanes`]: the span, the lanes that have one, and the
     /// lanes left to the scalar code (where the `-` bodies would leave more
-    /// than two spans, or a faceted body more than one segment). Each step is [`Prepared::convex_spans`]' for one span
-    /// and one segment, or the lists' for two spans and one segment.
+    /// than two spans, or a faceted body more than one segment).
     #[inline(always)]
     fn zone_lanes<S: Simd>(
         &self,
@@ -643,6 +643,32 @@ impl Prepared {
         lo: S::F,
         hi: S::F,
     ) -> (SpanLanes<S>, S::M, S::M) {
+        let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
+        let (in_cur, in_next) = spans.within(s, lo, hi);
+        (
+            pick_span(s, in_next, spans.next, spans.cur),
+            s.or(in_cur, in_next),
+            spans.more,
+        )
+    }
+
+    /// [`Prepared::zone_spans`]' spans for the lanes of `m`, for a zone of
+    /// [`PreparedZone::lanes`], before they are cut to `(lo, hi)`: one or
+    /// two in each lane, and the lanes left to the scalar code (where the
+    /// `-` bodies would leave more than two, or a faceted body more than
+    /// one segment). Each step is
+    /// [`Prepared::convex_spans`]' for one span and one segment, or the
+    /// lists' for two spans and one segment.
+    #[inline(always)]
+    fn zone_lanes_spans<S: Simd>(
+        &self,
+        s: S,
+        z: &PreparedZone,
+        r: &Lanes<S>,
+        m: S::M,
+        lo: S::F,
+        hi: S::F,
+    ) -> ZoneLanes<S> {
         let first = z.first as usize;
         let terms = &self.terms[first..first + z.plus as usize + z.minus as usize];
         let (plus, minus) = terms.split_at(z.plus as usize);
@@ -684,7 +710,14 @@ impl Prepared {
                 body: lo,
                 face: lo,
             };
-            return (SpanLanes { a: z0, b: z0 }, s.none(), more);
+            let none = SpanLanes { a: z0, b: z0 };
+            return ZoneLanes {
+                cur: none,
+                next: none,
+                alive: s.none(),
+                two: s.none(),
+                more,
+            };
         };
         // A lane may hold two spans, as the lists would: `cur`, and `next`
         // in the lanes of `two`. A third goes to the scalar code.
@@ -760,14 +793,38 @@ impl Prepared {
                 break;
             }
         }
-        // The first span that reaches into `(lo, hi)`.
-        let in_cur = s.and(alive, within(s, &cur, lo, hi));
-        let in_next = s.andnot(s.and(s.and(alive, two), within(s, &next, lo, hi)), in_cur);
-        (
-            pick_span(s, in_next, next, cur),
-            s.or(in_cur, in_next),
+        ZoneLanes {
+            cur,
+            next,
+            alive,
+            two,
             more,
-        )
+        }
+    }
+}
+
+/// A zone's spans in every lane ([`Prepared::zone_lanes_spans`]): `cur`
+/// in the lanes of `alive`, then `next` in those of `two`; the lanes of
+/// `more` are left to the scalar code.
+struct ZoneLanes<S: Simd> {
+    cur: SpanLanes<S>,
+    next: SpanLanes<S>,
+    alive: S::M,
+    two: S::M,
+    more: S::M,
+}
+
+impl<S: Simd> ZoneLanes<S> {
+    /// The lanes where the first span reaches into `(lo, hi)`, and those
+    /// where the second does and the first does not.
+    #[inline(always)]
+    fn within(&self, s: S, lo: S::F, hi: S::F) -> (S::M, S::M) {
+        let in_cur = s.and(self.alive, within(s, &self.cur, lo, hi));
+        let in_next = s.andnot(
+            s.and(s.and(self.alive, self.two), within(s, &self.next, lo, hi)),
+            in_cur,
+        );
+        (in_cur, in_next)
     }
 }
 

@@ -651,7 +651,7 @@ fn affine<S: Simd>(s: S, b: f64, r: f64, u: f64, sx: S::F, sy: S::F) -> S::F {
 /// A packet of rays in lanes. A short packet repeats its last ray in the
 /// lanes left.
 #[inline(always)]
-fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
+pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
     if rays.len() < S::LANES {
         let mut full = [rays[rays.len() - 1]; MAX_LANES];
         full[..rays.len()].copy_from_slice(rays);

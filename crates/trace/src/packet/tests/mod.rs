@@ -1,10 +1,12 @@
 //! The packet tracer against the rays traced one by one: every path, every
 //! lane width, bit for bit.
 
+mod partitions;
 mod primary;
 mod shadow;
 mod tiles;
 
+use super::partitions::*;
 use super::primary::*;
 use super::shadow::*;
 use super::*;

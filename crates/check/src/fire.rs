@@ -1,0 +1,437 @@
+//! Firing a check's rays: chunk by chunk on the rayon pool, grid rays in
+//! packets along their rows, each chunk's findings summed by kind.
+
+use crate::analyse::{FindingKind, RayCheck};
+use crate::check::{CheckOptions, Plan};
+use crate::grid::{random_ray, Grid};
+use crate::model::Model;
+use crate::refine::{signature, Bundle, Signatures};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
+use sv_math::{DVec3, Ray};
+use sv_trace::Partition;
+
+/// The summed stretches of one kind of finding.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub(crate) struct Acc {
+    pub total: f64,
+    pub weighted: f64,
+    pub max: f64,
+    pub point: DVec3,
+    pub at: u64,
+    pub hits: u64,
+}
+
+impl Acc {
+    fn merge(&mut self, o: &Acc) {
+        self.total += o.total;
+        self.weighted += o.weighted;
+        self.hits += o.hits;
+        if o.max > self.max || (o.max == self.max && o.at < self.at) {
+            self.max = o.max;
+            self.point = o.point;
+            self.at = o.at;
+        }
+    }
+}
+
+/// Rays are fired in chunks of this many; the chunks' findings are summed
+/// in chunk order, so the sums depend neither on the number of threads
+/// nor on how the chunks are shared out ([`check_part`](crate::check_part)).
+pub(crate) const CHUNK: u64 = 256;
+
+/// One chunk's findings by kind, in order of kind.
+pub(crate) type ChunkFindings = Vec<(FindingKind, Acc)>;
+
+/// The findings of chunks summed in chunk order, and the regions their
+/// rays met.
+pub(crate) struct Totals {
+    pub found: HashMap<FindingKind, Acc>,
+    pub seen: Vec<bool>,
+    /// Refinement rays fired.
+    pub refine_rays: u64,
+}
+
+impl Totals {
+    pub fn new(regions: usize) -> Totals {
+        Totals {
+            found: HashMap::new(),
+            seen: vec![false; regions],
+            refine_rays: 0,
+        }
+    }
+
+    /// Add the next chunk's findings.
+    pub fn add_chunk(&mut self, chunk: &ChunkFindings) {
+        for (kind, acc) in chunk {
+            self.found
+                .entry(*kind)
+                .and_modify(|sum| sum.merge(acc))
+                .or_insert(*acc);
+        }
+    }
+
+    /// Add regions met.
+    pub fn add_seen(&mut self, seen: &[bool]) {
+        for (any, this) in self.seen.iter_mut().zip(seen) {
+            *any |= this;
+        }
+    }
+}
+
+/// Chunks fired at once, whose findings are then handed on before the
+/// next: a quarter of a million rays' findings and signatures held at a
+/// time, however many rays.
+const BATCH: u64 = 1024;
+
+/// Fire the chunks `chunks` of the grid and random rays on the rayon pool,
+/// each followed by the refinement rays of the neighbouring grid rays that
+/// end in it (see [`crate::refine`]): per chunk, in chunk order, every
+/// kind of finding with its stretches summed (in order of kind) is handed
+/// to `each`. Returns which regions any ray met and the number of
+/// refinement rays.
+pub(crate) fn fire_chunks(
+    model: &Model,
+    plan: &Plan,
+    opts: &CheckOptions,
+    chunks: Range<u64>,
+    each: &mut dyn FnMut(ChunkFindings),
+) -> (Vec<bool>, u64) {
+    let seen: Vec<AtomicBool> = (0..model.names.len())
+        .map(|_| AtomicBool::new(false))
+        .collect();
+    let refining = plan.refinement.levels > 0;
+    let grid = &plan.grid;
+    let mut sigs = Signatures {
+        first: chunks.start * CHUNK,
+        sigs: Vec::new(),
+    };
+    if refining {
+        sigs = signatures_before(model, plan, chunks.start * CHUNK);
+    }
+    let mut refined = 0;
+    for first in chunks.clone().step_by(BATCH as usize) {
+        let batch = first..(first + BATCH).min(chunks.end);
+        let fired: Vec<(KindSums, Vec<u64>)> = batch
+            .clone()
+            .into_par_iter()
+            .map_init(
+                || Worker::new(model),
+                |worker, chunk| fire_chunk(model, plan, opts, worker, chunk, &seen),
+            )
+            .collect();
+        let mut sums = Vec::with_capacity(fired.len());
+        for (chunk_sums, chunk_sigs) in fired {
+            sigs.sigs.extend(chunk_sigs);
+            sums.push(chunk_sums);
+        }
+        let done: Vec<(ChunkFindings, u64)> = sums
+            .into_par_iter()
+            .enumerate()
+            .map_init(
+                || (RayCheck::new(model), Bundle::default()),
+                |(ray_check, bundle), (at, chunk_sums)| {
+                    let chunk = batch.start + at as u64;
+                    let work = (ray_check, bundle);
+                    refine_chunk(plan, work, chunk, &sigs, chunk_sums, &seen)
+                },
+            )
+            .collect();
+        for (found, rays) in done {
+            refined += rays;
+            each(found);
+        }
+        sigs.keep_from((batch.end * CHUNK).saturating_sub(grid.longest_row()));
+    }
+    let seen = seen.into_iter().map(AtomicBool::into_inner).collect();
+    (seen, refined)
+}
+
+/// The signatures of the grid rays up to a row before ray `start`, for the
+/// refinement of the rays from `start` on: fired anew when a check is
+/// split into parts.
+fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
+    let start = start.min(plan.grid.total());
+    let rays = start.saturating_sub(plan.grid.longest_row())..start;
+    let mut sigs = Signatures {
+        first: rays.start,
+        sigs: Vec::with_capacity((rays.end - rays.start) as usize),
+    };
+    let tolerance = plan.tolerance;
+    let mut worker = Worker::new(model);
+    fire_grid_rays(model, plan, &mut worker, rays, |ray_check, _, _, _| {
+        sigs.sigs.push(signature(&ray_check.parts, tolerance));
+    });
+    sigs
+}
+
+/// Fire the refinement rays that end in chunk `chunk` (see
+/// [`Refinement::refine`]), adding their findings to the chunk's `sums`:
+/// the chunk's findings in order of kind, and the number of rays.
+fn refine_chunk(
+    plan: &Plan,
+    (ray_check, bundle): (&mut RayCheck, &mut Bundle),
+    chunk: u64,
+    sigs: &Signatures,
+    mut sums: KindSums,
+    seen: &[AtomicBool],
+) -> (ChunkFindings, u64) {
+    let rays = chunk * CHUNK..((chunk + 1) * CHUNK).min(plan.grid.total());
+    let mut fired = 0;
+    if rays.start < rays.end {
+        fired = plan.refinement.refine(
+            &plan.grid,
+            sigs,
+            rays,
+            (ray_check, bundle, plan.tolerance),
+            &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, &mut sums, seen),
+        );
+    }
+    (sums.sorted(), fired)
+}
+
+/// The zones a run of grid rays along one row can meet: those whose
+/// bounds meet the box the run crosses, listed once for the run, each with
+/// the rays of the run that pass near its bounds, so that the rays neither
+/// walk the hierarchy nor test the boxes of zones far beside them.
+#[derive(Default)]
+struct RowZones {
+    /// The run of rays listed.
+    rays: Range<u64>,
+    /// False when the hierarchy was too deep to list the zones: the rays
+    /// walk it.
+    listed: bool,
+    /// The zones listed, each with the first and last ray of the run that
+    /// may meet it (up to a ray more each side), by first ray.
+    near: Vec<(u64, u64, u32)>,
+    /// How many of `near` the rays so far have reached.
+    next: usize,
+    /// The zones near the current ray, and the last ray near each.
+    zones: Vec<u32>,
+    last: Vec<u64>,
+    scratch: Vec<u32>,
+}
+
+impl RowZones {
+    /// The zones grid rays `rays` (in one row) may meet (`None`: walk the
+    /// hierarchy); listed anew for the rest of their row within the chunk
+    /// ending at `end` when the last list does not cover them. Rays come
+    /// in order.
+    fn for_rays(
+        &mut self,
+        model: &Model,
+        grid: &Grid,
+        rays: Range<u64>,
+        end: u64,
+    ) -> Option<&[u32]> {
+        if !self.rays.contains(&rays.start) {
+            self.list(model, grid, rays.start..grid.row_end(rays.start).min(end));
+        }
+        if !self.listed {
+            return None;
+        }
+        while let Some(&(first, last, zone)) = self.near.get(self.next) {
+            if first >= rays.end {
+                break;
+            }
+            self.zones.push(zone);
+            self.last.push(last);
+            self.next += 1;
+        }
+        // Drop the zones the run has passed.
+        let mut kept = 0;
+        for at in 0..self.zones.len() {
+            if self.last[at] >= rays.start {
+                self.zones[kept] = self.zones[at];
+                self.last[kept] = self.last[at];
+                kept += 1;
+            }
+        }
+        self.zones.truncate(kept);
+        self.last.truncate(kept);
+        Some(&self.zones)
+    }
+
+    /// List the zones of the run `rays`.
+    fn list(&mut self, model: &Model, grid: &Grid, rays: Range<u64>) {
+        let crossed = grid.run_box(rays.start, rays.end - 1);
+        self.listed = model.prepared.all_zones_in_box(&crossed, &mut self.scratch);
+        self.near.clear();
+        self.zones.clear();
+        self.last.clear();
+        self.next = 0;
+        let tolerance = model.prepared.tolerance();
+        for &zone in &self.scratch {
+            let bounds = model.prepared.zone_bounds(zone).padded(tolerance);
+            let (first, last) = grid.rays_near(rays.clone(), &bounds);
+            self.near.push((first, last, zone));
+        }
+        self.near.sort_unstable();
+        self.rays = rays;
+    }
+}
+
+/// Grid rays traced together: as many as the widest vector lanes hold.
+const PACKET: u64 = 8;
+
+/// Working memory of a thread: the rays' classification, the zones of the
+/// row under way, and a packet's rays and partitions.
+struct Worker<'a> {
+    ray_check: RayCheck<'a>,
+    row: RowZones,
+    rays: Vec<Ray>,
+    parts: Vec<Vec<Partition>>,
+}
+
+impl<'a> Worker<'a> {
+    fn new(model: &'a Model) -> Worker<'a> {
+        Worker {
+            ray_check: RayCheck::new(model),
+            row: RowZones::default(),
+            rays: Vec::with_capacity(PACKET as usize),
+            parts: vec![Vec::new(); PACKET as usize],
+        }
+    }
+}
+
+/// Fire the rays of chunk `chunk`: its findings by kind, and the
+/// signatures of its grid rays when the check refines; the regions its
+/// rays meet are marked in `seen`. The findings are summed ray by ray in
+/// the order of the rays.
+fn fire_chunk(
+    model: &Model,
+    plan: &Plan,
+    opts: &CheckOptions,
+    worker: &mut Worker,
+    chunk: u64,
+    seen: &[AtomicBool],
+) -> (KindSums, Vec<u64>) {
+    let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
+    let grid_rays = grid.total();
+    let end = ((chunk + 1) * CHUNK).min(grid_rays + opts.random);
+    let mut sums = KindSums::default();
+    let mut sigs = Vec::new();
+    let refining = plan.refinement.levels > 0;
+    let rays = chunk * CHUNK..end.min(grid_rays);
+    fire_grid_rays(model, plan, worker, rays, |ray_check, ray, at, area| {
+        gather(ray_check, ray, at, area, &mut sums, seen);
+        if refining {
+            sigs.push(signature(&ray_check.parts, tolerance));
+        }
+    });
+    let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
+    for random_index in randoms {
+        let (lo, hi) = (checked_box.min, checked_box.max);
+        if let Some((ray, t0, t1)) = random_ray(lo, hi, opts.seed, random_index) {
+            let ray_check = &mut worker.ray_check;
+            ray_check.run(&ray, t0, t1, tolerance);
+            let at = grid_rays + random_index;
+            gather(ray_check, &ray, at, 0.0, &mut sums, seen);
+        }
+    }
+    (sums, sigs)
+}
+
+/// Fire the grid rays `rays` in packets along their rows, handing each,
+/// in order, to `each` with its index, the area it stands for and the
+/// partitions and findings of the worker's classification.
+fn fire_grid_rays(
+    model: &Model,
+    plan: &Plan,
+    worker: &mut Worker,
+    rays: Range<u64>,
+    mut each: impl FnMut(&RayCheck, &Ray, u64, f64),
+) {
+    let grid = &plan.grid;
+    let mut index = rays.start;
+    while index < rays.end {
+        let packet = index..(index + PACKET).min(grid.row_end(index)).min(rays.end);
+        let (t1, area) = grid.run_rays(packet.clone(), &mut worker.rays);
+        let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
+        let Worker {
+            ray_check,
+            rays,
+            parts,
+            ..
+        } = worker;
+        ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
+        for (at, (ray, ray_parts)) in packet.clone().zip(rays.iter().zip(parts.iter_mut())) {
+            ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);
+            each(ray_check, ray, at, area);
+        }
+        index = packet.end;
+    }
+}
+
+/// Add the findings of ray `index` (standing for `area`) to `sums`, and
+/// mark the regions it met in `seen`.
+fn gather(
+    ray_check: &RayCheck,
+    ray: &Ray,
+    index: u64,
+    area: f64,
+    sums: &mut KindSums,
+    seen: &[AtomicBool],
+) {
+    for part in &ray_check.parts {
+        let met = &seen[part.region as usize];
+        // Read first: once every thread has seen the region, its line
+        // stays shared instead of passing from core to core.
+        if !met.load(Ordering::Relaxed) {
+            met.store(true, Ordering::Relaxed);
+        }
+    }
+    for finding in &ray_check.findings {
+        let length = finding.t1 - finding.t0;
+        sums.add(
+            finding.kind,
+            Acc {
+                total: length,
+                weighted: length * area,
+                max: length,
+                point: ray.at(0.5 * (finding.t0 + finding.t1)),
+                at: index,
+                hits: 1,
+            },
+        );
+    }
+}
+
+/// A chunk's findings by kind, in the order first met. A chunk meets a
+/// few kinds, the same ones ray after ray: a look at the last one used,
+/// then along the list, beats hashing.
+#[derive(Default)]
+pub(crate) struct KindSums {
+    sums: Vec<(FindingKind, Acc)>,
+    last: usize,
+}
+
+impl KindSums {
+    /// Add a stretch of kind `kind`.
+    fn add(&mut self, kind: FindingKind, stretch: Acc) {
+        let at = match self.sums.get(self.last) {
+            Some((k, _)) if *k == kind => Some(self.last),
+            _ => self.sums.iter().position(|(k, _)| *k == kind),
+        };
+        match at {
+            Some(at) => {
+                self.sums[at].1.merge(&stretch);
+                self.last = at;
+            }
+            None => {
+                self.last = self.sums.len();
+                self.sums.push((kind, stretch));
+            }
+        }
+    }
+
+    /// The sums in order of kind.
+    fn sorted(&self) -> ChunkFindings {
+        let mut sums = self.sums.clone();
+        sums.sort_by_key(|entry| entry.0);
+        sums
+    }
+}

@@ -1,0 +1,191 @@
+//! The grids of rays a check fires, and its random rays.
+
+use crate::rng::uniform;
+use std::ops::Range;
+use sv_math::{Aabb, DVec3, Ray};
+
+/// The grid of one check: per axis, counts and cell sizes.
+pub(crate) struct Grid {
+    lo: DVec3,
+    size: DVec3,
+    pad: f64,
+    n: [(u64, u64); 3],
+    cell: [(f64, f64); 3],
+    first: [u64; 4],
+}
+
+/// Grid cells of about `d` across `len`: rounding noise (2/0.01 =
+/// 200.00000000000003) does not add a cell.
+pub(crate) fn cells(len: f64, d: f64) -> f64 {
+    (len / d * (1.0 - 1e-12)).ceil()
+}
+
+const FRAC_U: f64 = 0.561_803_398_874_989_5;
+const FRAC_V: f64 = 0.458_578_643_762_690_5;
+
+impl Grid {
+    pub(crate) fn new(lo: DVec3, hi: DVec3, d: f64) -> Grid {
+        let size = hi - lo;
+        let count = |len: f64| (cells(len, d) as u64).max(1);
+        let mut n = [(0, 0); 3];
+        let mut cell = [(0.0, 0.0); 3];
+        let mut first = [0u64; 4];
+        for k in 0..3 {
+            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+            n[k] = (count(size[u]), count(size[v]));
+            cell[k] = (size[u] / n[k].0 as f64, size[v] / n[k].1 as f64);
+            first[k + 1] = first[k] + n[k].0 * n[k].1;
+        }
+        Grid {
+            lo,
+            size,
+            pad: 0.01 * size.length() + 1e-9,
+            n,
+            cell,
+            first,
+        }
+    }
+
+    pub(crate) fn total(&self) -> u64 {
+        self.first[3]
+    }
+
+    /// One past the last ray of the row of grid ray `idx`.
+    pub(crate) fn row_end(&self, idx: u64) -> u64 {
+        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+        let row = self.n[k].0;
+        self.first[k] + ((idx - self.first[k]) / row + 1) * row
+    }
+
+    /// The first and last of grid rays `rays` (one run along a row) that
+    /// may meet `bounds`: a ray more each side than those that pass
+    /// within them, so that rounding does not leave one out.
+    pub(crate) fn rays_near(&self, rays: Range<u64>, bounds: &Aabb) -> (u64, u64) {
+        let k = (0..3)
+            .find(|&k| rays.start < self.first[k + 1])
+            .unwrap_or(2);
+        let u = (k + 1) % 3;
+        let row_start = rays.start - (rays.start - self.first[k]) % self.n[k].0;
+        // Ray i of the row passes at lo[u] + (i + FRAC_U) * cell.
+        let at = |x: f64| (x - self.lo[u]) / self.cell[k].0 - FRAC_U;
+        let (a, b) = (at(bounds.min[u]), at(bounds.max[u]));
+        let first = if a.is_finite() {
+            row_start.saturating_add_signed((a.ceil() as i64).saturating_sub(1))
+        } else {
+            rays.start
+        };
+        let last = if b.is_finite() {
+            row_start.saturating_add_signed((b.floor() as i64).saturating_add(1))
+        } else {
+            rays.end - 1
+        };
+        (first.max(rays.start), last.min(rays.end - 1))
+    }
+
+    /// For each of grid rays `rays`, the rays before it along its row and
+    /// across it (the same place in the row before), each with the axis
+    /// along which the two lie apart; `None` at the start of a row, or in
+    /// the first row. Counted along, without a division per ray.
+    pub(crate) fn neighbours_before(
+        &self,
+        rays: Range<u64>,
+    ) -> impl Iterator<Item = (u64, [Option<(u64, usize)>; 2])> + '_ {
+        let (mut k, mut i, mut j) = (0, 0, 0);
+        let start = rays.start;
+        rays.map(move |idx| {
+            if idx == start || idx == self.first[k + 1] {
+                k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+                let local = idx - self.first[k];
+                (i, j) = (local % self.n[k].0, local / self.n[k].0);
+            }
+            let row = self.n[k].0;
+            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+            let pair = [
+                (i > 0).then(|| (idx - 1, u)),
+                (j > 0).then(|| (idx - row, v)),
+            ];
+            i += 1;
+            if i == row {
+                (i, j) = (0, j + 1);
+            }
+            (idx, pair)
+        })
+    }
+
+    /// The widest cell of the three grids: its diagonal, and its longer
+    /// side.
+    pub(crate) fn widest_cell(&self) -> (f64, f64) {
+        self.cell
+            .iter()
+            .fold((0.0f64, 0.0f64), |(diagonal, side), &(a, b)| {
+                (diagonal.max(a.hypot(b)), side.max(a.max(b)))
+            })
+    }
+
+    /// The longest row of the grid: a ray's neighbour across its row lies
+    /// at most this many rays before it.
+    pub(crate) fn longest_row(&self) -> u64 {
+        self.n.iter().map(|n| n.0).max().unwrap_or(1)
+    }
+
+    /// The box that grid rays `first` to `last` (one row) cross over
+    /// their range.
+    pub(crate) fn run_box(&self, first: u64, last: u64) -> Aabb {
+        let (a, t1, _) = self.ray(first);
+        let (b, _, _) = self.ray(last);
+        Aabb::EMPTY.including(a.origin).including(b.at(t1))
+    }
+
+    /// Ray `idx` of the grid, its t range and the area it stands for.
+    pub(crate) fn ray(&self, idx: u64) -> (Ray, f64, f64) {
+        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+        let local = idx - self.first[k];
+        let (i, j) = (local % self.n[k].0, local / self.n[k].0);
+        let (u, v) = ((k + 1) % 3, (k + 2) % 3);
+        let mut o = DVec3::ZERO;
+        o[k] = self.lo[k] - self.pad;
+        o[u] = self.lo[u] + (i as f64 + FRAC_U) * self.cell[k].0;
+        o[v] = self.lo[v] + (j as f64 + FRAC_V) * self.cell[k].1;
+        let mut dir = DVec3::ZERO;
+        dir[k] = 1.0;
+        (
+            Ray::new(o, dir),
+            self.size[k] + 2.0 * self.pad,
+            self.cell[k].0 * self.cell[k].1,
+        )
+    }
+
+    /// Grid rays `rays` (one run along a row) into `out`, each exactly as
+    /// [`Grid::ray`] makes it; their t range and the area each stands for.
+    pub(crate) fn run_rays(&self, rays: Range<u64>, out: &mut Vec<Ray>) -> (f64, f64) {
+        let (first, t1, area) = self.ray(rays.start);
+        let k = (0..3)
+            .find(|&k| rays.start < self.first[k + 1])
+            .unwrap_or(2);
+        let u = (k + 1) % 3;
+        let i = (rays.start - self.first[k]) % self.n[k].0;
+        out.clear();
+        out.push(first);
+        for next in i + 1..i + (rays.end - rays.start) {
+            let mut ray = first;
+            ray.origin[u] = self.lo[u] + (next as f64 + FRAC_U) * self.cell[k].0;
+            out.push(ray);
+        }
+        (t1, area)
+    }
+}
+
+/// A random ray through a random point of the box, and its range inside
+/// the padded box.
+pub(crate) fn random_ray(lo: DVec3, hi: DVec3, seed: u64, i: u64) -> Option<(Ray, f64, f64)> {
+    let r = |c: u64| uniform(seed, i, c, 0x5eed);
+    let z = 2.0 * r(0) - 1.0;
+    let phi = std::f64::consts::TAU * r(1);
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    let dir = DVec3::new(s * phi.cos(), s * phi.sin(), z);
+    let p = lo + (hi - lo) * DVec3::new(r(2), r(3), r(4));
+    let pad = 0.01 * (hi - lo).length() + 1e-9;
+    let bx = sv_math::Aabb::new(lo, hi).padded(pad);
+    let ray = Ray::new(p - dir * (2.0 * (hi - lo).length() + 1.0), dir);
+    bx.ray_range(&ray).map(|(a, b)| (ray, a.max(0.0), b))
+}

@@ -1,0 +1,229 @@
+//! Every region's stretches along rays that share a list of zones (the
+//! grid rays of a check along one row), several rays at once: each zone's
+//! box is tested and its spans made for all the lanes together, and a zone
+//! the lanes cannot make, or a lane that would hold more than two spans,
+//! goes to the scalar code.
+
+use super::primary::lanes_of;
+use super::{within, End, SpanLanes};
+use crate::hit::{Partition, Scratch};
+use crate::prepare::Prepared;
+use sv_geom::boolean::{Bound, Span};
+use sv_math::lanes::{box_lanes, Lanes, MAX_LANES};
+use sv_math::simd::Simd;
+use sv_math::Ray;
+
+impl Prepared {
+    /// [`Prepared::partitions_in`] for each of `rays`, into the same
+    /// places of `out`: `zones` must hold every zone whose bounds any of
+    /// them meets within `(tmin, tmax)`. Several rays at once where the
+    /// processor has vector instructions for it; the same stretches, bit
+    /// for bit, as the rays give one by one.
+    pub fn partitions_of_rays_in(
+        &self,
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
+        assert!(
+            out.len() >= rays.len(),
+            "a list of partitions for every ray"
+        );
+        if partitions_any(self, zones, rays, tmin, tmax, s, out).is_some() {
+            return;
+        }
+        for (ray, parts) in rays.iter().zip(out) {
+            self.partitions_in(zones, ray, tmin, tmax, s, parts);
+        }
+    }
+
+    /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn partitions_in_packets<S: Simd>(
+        &self,
+        s: S,
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
+        let mut tagged = std::mem::take(&mut sc.lane_tagged);
+        tagged.resize_with(MAX_LANES, Vec::new);
+        let mut held = HeldSpans::default();
+        for (packet, parts) in rays.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
+            let r = lanes_of(s, packet);
+            let active = (1u32 << packet.len()) - 1;
+            tagged.iter_mut().for_each(Vec::clear);
+            for &zi in zones {
+                let rays = (&r, packet);
+                self.tag_zone_lanes(
+                    s,
+                    zi,
+                    rays,
+                    active,
+                    (tmin, tmax),
+                    sc,
+                    &mut tagged,
+                    &mut held,
+                );
+            }
+            held.hand_out(&mut tagged);
+            for (lane, parts) in tagged.iter_mut().zip(parts.iter_mut()) {
+                parts.clear();
+                self.union_partitions(lane, parts);
+            }
+        }
+        sc.lane_tagged = tagged;
+    }
+
+    /// The spans of zone `zi` along the rays of the lanes of `active`
+    /// (`r` in lanes, `rays` one by one) that reach into `(tmin, tmax)`,
+    /// added to each lane's list in `tagged` with the zone's region: those
+    /// made one by one at once, those made in the lanes held in `held`
+    /// until the next zone a lane meets (or the packet's end).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn tag_zone_lanes<S: Simd>(
+        &self,
+        s: S,
+        zi: u32,
+        (r, rays): (&Lanes<S>, &[Ray]),
+        active: u32,
+        (tmin, tmax): (f64, f64),
+        sc: &mut Scratch,
+        tagged: &mut [Vec<(u32, Span)>],
+        held: &mut HeldSpans,
+    ) {
+        let z = &self.zones[zi as usize];
+        let (lo, hi) = (s.splat(tmin), s.splat(tmax));
+        let m = s.and(s.mask(active), box_lanes(s, &z.bounds, r, lo, hi));
+        let met = s.bits(m);
+        if met == 0 {
+            return;
+        }
+        // The last zone's spans go first, so that each lane's spans stay
+        // in the order of the zones.
+        held.hand_out(tagged);
+        let mut one_by_one = met;
+        if z.lanes && !z.is_filled() {
+            let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
+            one_by_one = s.bits(spans.more);
+            // A lane left to the scalar code gets its spans there only.
+            let alive = s.andnot(spans.alive, spans.more);
+            let first = s.bits(s.and(alive, within(s, &spans.cur, lo, hi)));
+            let second = s.bits(s.and(s.and(alive, spans.two), within(s, &spans.next, lo, hi)));
+            if first | second != 0 {
+                held.hold(s, z.region, (first, &spans.cur), (second, &spans.next));
+            }
+        }
+        if one_by_one == 0 {
+            return;
+        }
+        for (j, (ray, lane)) in rays.iter().zip(tagged.iter_mut()).enumerate() {
+            if one_by_one & (1 << j) == 0 {
+                continue;
+            }
+            sc.new_ray();
+            if z.is_filled() {
+                self.fill_partitions(z, ray, tmin, tmax, sc, lane);
+            } else if self.zone_spans(z, ray, tmin, tmax, sc) {
+                lane.extend(sc.cur.iter().map(|sp| (z.region, *sp)));
+            }
+        }
+    }
+}
+
+/// The spans a zone left in the lanes, held lane by lane until they are
+/// handed out to the lanes' lists: read back at once, the values just
+/// stored from the vectors would wait for the stores to reach the cache.
+#[derive(Default)]
+struct HeldSpans {
+    region: u32,
+    /// The lanes whose first span, and whose second, are held.
+    first: u32,
+    second: u32,
+    /// The two spans' ends: distance, body and face of each end.
+    cur: [[f64; MAX_LANES]; 6],
+    next: [[f64; MAX_LANES]; 6],
+}
+
+impl HeldSpans {
+    /// Hold the spans `cur` of the lanes of `first` and `next` of those
+    /// of `second`, of region `region`.
+    #[inline(always)]
+    fn hold<S: Simd>(
+        &mut self,
+        s: S,
+        region: u32,
+        (first, cur): (u32, &SpanLanes<S>),
+        (second, next): (u32, &SpanLanes<S>),
+    ) {
+        self.region = region;
+        (self.first, self.second) = (first, second);
+        store_span(s, cur, &mut self.cur);
+        store_span(s, next, &mut self.next);
+    }
+
+    /// Add the spans held to their lanes' lists, and hold none.
+    #[inline(always)]
+    fn hand_out(&mut self, tagged: &mut [Vec<(u32, Span)>]) {
+        let (first, second) = (self.first, self.second);
+        if first | second == 0 {
+            return;
+        }
+        let mut lanes = first | second;
+        while lanes != 0 {
+            let j = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let lane = &mut tagged[j];
+            if first & (1 << j) != 0 {
+                lane.push((self.region, lane_span(&self.cur, j)));
+            }
+            if second & (1 << j) != 0 {
+                lane.push((self.region, lane_span(&self.next, j)));
+            }
+        }
+        (self.first, self.second) = (0, 0);
+    }
+}
+
+/// Store the ends of span `sp` of every lane into `out`: distance, body
+/// and face of each end. Written out, without a closure: one would stay a
+/// call outside the instruction set the packet is compiled for.
+#[inline(always)]
+fn store_span<S: Simd>(s: S, sp: &SpanLanes<S>, out: &mut [[f64; MAX_LANES]; 6]) {
+    let (End { t, body, face }, b) = (sp.a, sp.b);
+    s.store(t, &mut out[0]);
+    s.store(body, &mut out[1]);
+    s.store(face, &mut out[2]);
+    s.store(b.t, &mut out[3]);
+    s.store(b.body, &mut out[4]);
+    s.store(b.face, &mut out[5]);
+}
+
+/// The span of lane `j` of the ends stored by [`store_span`].
+#[inline(always)]
+fn lane_span(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span {
+    let v = |k: usize| ends[k][j];
+    Span {
+        a: Bound::from_parts(v(0), v(1) as u32, v(2) as u32),
+        b: Bound::from_parts(v(3), v(4) as u32, v(5) as u32),
+    }
+}
+
+compiled_for_each! {
+    fn partitions_avx512, partitions_avx2, partitions_any => partitions_in_packets(
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    )
+}

@@ -1,0 +1,92 @@
+//! Partitions in packets against the rays traced one by one.
+
+use super::*;
+use crate::{Partition, PrepareOptions};
+use rand::SeedableRng;
+
+/// Bit-for-bit equality of two partition lists.
+fn same_parts(a: &[Partition], b: &[Partition]) -> bool {
+    let bits = |p: &Partition| {
+        let (x, y) = (p.span.a, p.span.b);
+        (
+            p.region,
+            [x.t.to_bits(), y.t.to_bits()],
+            [x.body, y.body, x.face_flip(), y.face_flip()],
+        )
+    };
+    a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
+}
+
+#[test]
+fn packets_give_the_partitions_of_rays_traced_one_by_one() {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+    let (mut stretches, mut two_or_more) = (0, 0);
+    for i in 0..31 {
+        let g = geometry(&mut rng, i % 2 == 0 || i >= 8, (i >= 8).then(|| i - 8));
+        let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
+        let all: Vec<u32> = (0..p.zones.len() as u32).collect();
+        let mut s = Scratch::new(&p);
+        for batch in 0..60 {
+            let (rays, _, _) = rays(&mut rng, batch);
+            let (tmin, tmax) = match batch % 7 {
+                3 => (0.5, f64::INFINITY),
+                5 => (0.0, 3.0),
+                _ => (0.0, f64::INFINITY),
+            };
+            let one: Vec<Vec<Partition>> = rays
+                .iter()
+                .map(|ray| {
+                    let mut parts = Vec::new();
+                    p.partitions(ray, tmin, tmax, &mut s, &mut parts);
+                    parts
+                })
+                .collect();
+            stretches += one.iter().map(Vec::len).sum::<usize>();
+            two_or_more += one.iter().filter(|parts| parts.len() > 1).count();
+            let check = |how: &str, trace: &mut dyn FnMut(&mut [Vec<Partition>])| {
+                let mut many = vec![vec![]; rays.len()];
+                trace(&mut many);
+                for (k, (a, b)) in one.iter().zip(&many).enumerate() {
+                    assert!(
+                        same_parts(a, b),
+                        "{how}, batch {batch}, ray {k}: {a:?} {b:?}"
+                    );
+                }
+            };
+            check("list, ray by ray", &mut |o| {
+                for (ray, parts) in rays.iter().zip(o) {
+                    p.partitions_in(&all, ray, tmin, tmax, &mut s, parts);
+                }
+            });
+            check("four portable lanes", &mut |o| {
+                p.partitions_in_packets(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+            });
+            check("eight portable lanes", &mut |o| {
+                p.partitions_in_packets(Portable::<8>, &all, &rays, tmin, tmax, &mut s, o)
+            });
+            check("the widest here", &mut |o| {
+                p.partitions_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
+            });
+            #[cfg(target_arch = "x86_64")]
+            {
+                // SAFETY (both): the tokens prove the instructions are
+                // there.
+                if let Some(t) = sv_math::simd::Avx512::detect() {
+                    check("AVX-512", &mut |o| unsafe {
+                        partitions_avx512(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                    });
+                }
+                if let Some(t) = sv_math::simd::Avx2::detect() {
+                    check("AVX2", &mut |o| unsafe {
+                        partitions_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                    });
+                }
+            }
+        }
+    }
+    // Many rays crossed stretches, many of them several.
+    assert!(
+        stretches > 20_000 && two_or_more > 2_000,
+        "{stretches} {two_or_more}"
+    );
+}

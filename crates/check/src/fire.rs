@@ -386,17 +386,8 @@ fn gather(
     }
     for finding in &ray_check.findings {
         let length = finding.t1 - finding.t0;
-        sums.add(
-            finding.kind,
-            Acc {
-                total: length,
-                weighted: length * area,
-                max: length,
-                point: ray.at(0.5 * (finding.t0 + finding.t1)),
-                at: index,
-                hits: 1,
-            },
-        );
+        let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
+        sums.add(finding.kind, (length, area, index), midpoint);
     }
 }
 
@@ -411,20 +402,41 @@ pub(crate) struct KindSums {
 
 impl KindSums {
     /// Add a stretch of kind `kind`.
-    fn add(&mut self, kind: FindingKind, stretch: Acc) {
+    /// Add a stretch of kind `kind`, `length` long, on ray `index` standing
+    /// for `area`: as [`Acc::merge`] of the stretch alone, its midpoint
+    /// worked out only when it is the longest so far.
+    fn add(
+        &mut self,
+        kind: FindingKind,
+        (length, area, index): (f64, f64, u64),
+        midpoint: impl FnOnce() -> DVec3,
+    ) {
         let at = match self.sums.get(self.last) {
             Some((k, _)) if *k == kind => Some(self.last),
             _ => self.sums.iter().position(|(k, _)| *k == kind),
         };
-        match at {
-            Some(at) => {
-                self.sums[at].1.merge(&stretch);
-                self.last = at;
-            }
-            None => {
-                self.last = self.sums.len();
-                self.sums.push((kind, stretch));
-            }
+        let Some(at) = at else {
+            self.last = self.sums.len();
+            let stretch = Acc {
+                total: length,
+                weighted: length * area,
+                max: length,
+                point: midpoint(),
+                at: index,
+                hits: 1,
+            };
+            self.sums.push((kind, stretch));
+            return;
+        };
+        self.last = at;
+        let sum = &mut self.sums[at].1;
+        sum.total += length;
+        sum.weighted += length * area;
+        sum.hits += 1;
+        if length > sum.max || (length == sum.max && index < sum.at) {
+            sum.max = length;
+            sum.point = midpoint();
+            sum.at = index;
         }
     }
 

@@ -364,8 +364,19 @@ impl Prepared {
     /// unioned in the order of their entries, ties in the order given.
     pub(crate) fn union_partitions(&self, tagged: &mut [(u32, Span)], out: &mut Vec<Partition>) {
         tagged.sort_by(|a, b| a.1.a.t.total_cmp(&b.1.a.t).then(a.0.cmp(&b.0)));
+        // Regions already out, by their number modulo 64: most come once,
+        // and need no search for a stretch to extend.
+        let mut out_already = 0u64;
         for &(region, span) in tagged.iter() {
-            match out.iter_mut().rev().find(|p| p.region == region) {
+            let bit = 1u64 << (region % 64);
+            let searched = out_already & bit != 0;
+            out_already |= bit;
+            let last = if searched {
+                out.iter_mut().rev().find(|p| p.region == region)
+            } else {
+                None
+            };
+            match last {
                 Some(last) if span.a.t <= last.span.b.t + self.tol => {
                     if span.b.t > last.span.b.t {
                         last.span.b = span.b;

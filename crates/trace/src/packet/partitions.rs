@@ -167,7 +167,9 @@ impl HeldSpans {
         self.region = region;
         (self.first, self.second) = (first, second);
         store_span(s, cur, &mut self.cur);
-        store_span(s, next, &mut self.next);
+        if second != 0 {
+            store_span(s, next, &mut self.next);
+        }
     }
 
     /// Add the spans held to their lanes' lists, and hold none.

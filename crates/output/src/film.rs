@@ -8,7 +8,7 @@
 //! DIR/hashes/frame_000000     the content hash each frame was made with
 //! DIR/hashes/film.hash        the content hash the GIF, MP4 and sheet were made with
 //! DIR/film.gif                the whole film (scaled to at most gif_max_width)
-//! DIR/film.mp4                when ffmpeg is available
+//! DIR/film.mp4                H.264, BT.709 4:2:0, when ffmpeg is available
 //! DIR/contact.png             thumbnails of every Nth frame
 //! ```
 //!
@@ -23,9 +23,15 @@
 //! older than [`STALE_AFTER`].
 //!
 //! Frames are rendered in parallel on rayon's thread pool (the callback may
-//! itself use rayon). Each frame's picture depends only on its number, and
-//! the GIF, MP4 and contact sheet are built from the PNGs in frame order, so
-//! the output does not depend on the order in which frames were made.
+//! itself use rayon), each worker taking the next frame in turn. When every
+//! frame the run does not render is already done, the GIF, the MP4 and the
+//! contact sheet are assembled while the frames render: the workers also
+//! scale, quantise and compress each frame for the GIF and convert it for
+//! ffmpeg, which encodes from a pipe, and one thread writes the three in
+//! frame order. Otherwise they are assembled from the PNGs once every frame
+//! is done. Each frame's picture depends only on its number and the
+//! assembly takes frames in frame order, so the output does not depend on
+//! the order in which frames were made, nor on which runs made them.
 //!
 //! ```
 //! use sv_output::film::{content_hash, make_film, FilmOptions, Mp4Status};
@@ -44,13 +50,16 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod assemble;
+
+use assemble::{Assembled, Assembly, PreparedFrame};
 use image::RgbImage;
-use rayon::prelude::*;
 use std::fmt;
 use std::io::{self, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Mutex};
 
 /// What a render callback returns for one frame.
 pub type FrameResult = Result<RgbImage, Box<dyn std::error::Error + Send + Sync>>;
@@ -316,36 +325,19 @@ where
     R: Fn(usize) -> FrameResult + Sync,
     P: Fn(usize, usize) + Sync,
 {
-    let dir = &opts.out_dir;
-    let hashes = dir.join("hashes");
-    std::fs::create_dir_all(&hashes).map_err(io_err(&hashes))?;
-    remove_stale_temporaries(dir, STALE_AFTER);
-    remove_stale_temporaries(&hashes, STALE_AFTER);
-    let range = opts.frames.start.min(total)..opts.frames.end.min(total);
-    let (reused, todo): (Vec<usize>, Vec<usize>) =
-        range.clone().partition(|&f| frame_done(dir, f, &opts.hash));
-    let n = range.len();
-    let done = AtomicUsize::new(reused.len());
-    progress(reused.len(), n);
-    todo.par_iter()
-        .try_for_each(|&f| -> Result<(), FilmError> {
-            let img = render(f).map_err(|e| FilmError::Render {
-                frame: f,
-                message: e.to_string(),
-            })?;
-            write_png(&frame_path(dir, f), &img)?;
-            let hp = hash_path(dir, f);
-            write_atomically(&hp, |w| w.write_all(opts.hash.as_bytes())).map_err(io_err(&hp))?;
-            progress(done.fetch_add(1, Ordering::SeqCst) + 1, n);
-            Ok(())
-        })?;
-    Ok((todo, reused))
+    let run = FilmRun::begin(total, opts)?;
+    let jobs: Vec<Job> = run.rendered.iter().map(|&f| Job::Render(f)).collect();
+    run.make(&jobs, &render, &progress, None)?;
+    Ok((run.rendered, run.reused))
 }
 
-/// Render what is missing of the range, then, when every frame of the film
-/// is done, assemble the GIF, the MP4 (if ffmpeg is found) and the contact
-/// sheet. A missing or failing ffmpeg is reported in
-/// [`FilmReport::mp4`], never as an error.
+/// Render what is missing of the range and assemble the GIF, the MP4 (if
+/// ffmpeg is found) and the contact sheet, when every frame of the film is
+/// done. When every frame outside the range is done at the start, the film
+/// is assembled while the frames render; otherwise (another run may be
+/// making them) it is assembled from the PNGs if they are all done at the
+/// end. A missing or failing ffmpeg is reported in [`FilmReport::mp4`],
+/// never as an error.
 pub fn make_film<R, P>(
     total: usize,
     opts: &FilmOptions,
@@ -356,51 +348,210 @@ where
     R: Fn(usize) -> FrameResult + Sync,
     P: Fn(usize, usize) + Sync,
 {
-    let (rendered, reused) = render_frames(total, opts, render, progress)?;
+    let run = FilmRun::begin(total, opts)?;
     let dir = &opts.out_dir;
     remove_stale_assemblies(dir, &opts.hash)?;
-    let missing: Vec<usize> = (0..total)
-        .filter(|&f| !opts.frames.contains(&f) && !frame_done(dir, f, &opts.hash))
-        .collect();
+    let missing_elsewhere = || -> Vec<usize> {
+        (0..total)
+            .filter(|&f| !run.range.contains(&f) && !frame_done(dir, f, &opts.hash))
+            .collect()
+    };
+    let mut missing = missing_elsewhere();
+    let assembled = if total > 0 && missing.is_empty() {
+        // Every frame this run does not render is on disk: assemble while
+        // rendering, reading those from their PNGs in turn.
+        let assembly = Assembly::new(total, opts);
+        let jobs: Vec<Job> = assembly
+            .order()
+            .into_iter()
+            .map(|f| {
+                if run.rendered.binary_search(&f).is_ok() {
+                    Job::Render(f)
+                } else {
+                    Job::Read(f)
+                }
+            })
+            .collect();
+        run.make(&jobs, &render, &progress, Some(&assembly))?
+    } else {
+        let jobs: Vec<Job> = run.rendered.iter().map(|&f| Job::Render(f)).collect();
+        run.make(&jobs, &render, &progress, None)?;
+        missing = missing_elsewhere();
+        if total > 0 && missing.is_empty() {
+            // Another run made the rest meanwhile.
+            let assembly = Assembly::new(total, opts);
+            let jobs: Vec<Job> = assembly.order().into_iter().map(Job::Read).collect();
+            run.make(&jobs, &render, &|_, _| {}, Some(&assembly))?
+        } else {
+            None
+        }
+    };
     let mut report = FilmReport {
-        rendered,
-        reused,
+        rendered: run.rendered,
+        reused: run.reused,
         missing,
         gif: None,
         mp4: Mp4Status::NotMade,
         contact_sheet: None,
     };
-    if !report.missing.is_empty() || total == 0 {
-        return Ok(report);
+    if let Some(assembled) = assembled {
+        report.gif = assembled.gif;
+        report.mp4 = assembled.mp4;
+        report.contact_sheet = Some(assembled.contact_sheet);
+        let hash_file = dir.join("hashes").join(ASSEMBLED);
+        write_atomically(&hash_file, |w| w.write_all(opts.hash.as_bytes()))
+            .map_err(io_err(&hash_file))?;
     }
-    if opts.gif {
-        let p = dir.join("film.gif");
-        write_gif(dir, total, opts.fps, opts.gif_max_width, &p)?;
-        report.gif = Some(p);
-    }
-    let p = dir.join("contact.png");
-    let every = if opts.contact_every == 0 {
-        total.div_ceil(48).max(1)
-    } else {
-        opts.contact_every
-    };
-    let sheet = contact_sheet(dir, total, every, opts.contact_columns, opts.thumb_width)?;
-    write_png(&p, &sheet)?;
-    report.contact_sheet = Some(p);
-    if opts.mp4 {
-        let ffmpeg = opts
-            .ffmpeg
-            .clone()
-            .or_else(|| find_program("ffmpeg", std::env::var_os("PATH")));
-        report.mp4 = match ffmpeg {
-            None => Mp4Status::FfmpegNotFound,
-            Some(ff) => write_mp4(&ff, dir, total, opts.fps),
-        };
-    }
-    let hash_file = dir.join("hashes").join(ASSEMBLED);
-    write_atomically(&hash_file, |w| w.write_all(opts.hash.as_bytes()))
-        .map_err(io_err(&hash_file))?;
     Ok(report)
+}
+
+/// One frame's work in a run.
+#[derive(Clone, Copy, Debug)]
+enum Job {
+    /// Render the frame and write its PNG.
+    Render(usize),
+    /// Read the frame's PNG, made earlier, for the assembly.
+    Read(usize),
+}
+
+/// A run over a range of a film's frames: which it renders and which it
+/// found done.
+struct FilmRun<'a> {
+    opts: &'a FilmOptions,
+    /// The range, clipped to the film.
+    range: Range<usize>,
+    /// Frames of the range to render, ascending.
+    rendered: Vec<usize>,
+    /// Frames of the range found done, ascending.
+    reused: Vec<usize>,
+}
+
+impl FilmRun<'_> {
+    /// Make the output folder, clear what killed runs left there, and sort
+    /// the range into frames done and frames to render.
+    fn begin(total: usize, opts: &FilmOptions) -> Result<FilmRun<'_>, FilmError> {
+        let dir = &opts.out_dir;
+        let hashes = dir.join("hashes");
+        std::fs::create_dir_all(&hashes).map_err(io_err(&hashes))?;
+        remove_stale_temporaries(dir, STALE_AFTER);
+        remove_stale_temporaries(&hashes, STALE_AFTER);
+        let range = opts.frames.start.min(total)..opts.frames.end.min(total);
+        let (reused, rendered) = range.clone().partition(|&f| frame_done(dir, f, &opts.hash));
+        Ok(FilmRun {
+            opts,
+            range,
+            rendered,
+            reused,
+        })
+    }
+
+    /// Do `jobs` on every thread of rayon's pool, each taking the next job
+    /// in turn so that frames finish about in order; with an `assembly`,
+    /// each frame is prepared for it and handed to it on its own thread.
+    /// `progress` counts the frames of the range done. Stops taking jobs at
+    /// the first failing frame.
+    fn make<R, P>(
+        &self,
+        jobs: &[Job],
+        render: &R,
+        progress: &P,
+        assembly: Option<&Assembly>,
+    ) -> Result<Option<Assembled>, FilmError>
+    where
+        R: Fn(usize) -> FrameResult + Sync,
+        P: Fn(usize, usize) + Sync + ?Sized,
+    {
+        let dir = &self.opts.out_dir;
+        let range_len = self.range.len();
+        let done = AtomicUsize::new(self.reused.len());
+        progress(self.reused.len(), range_len);
+        let next_job = AtomicUsize::new(0);
+        let stop = AtomicBool::new(false);
+        let first_failure: Mutex<Option<FilmError>> = Mutex::new(None);
+        let fail = |e: FilmError| {
+            stop.store(true, Ordering::SeqCst);
+            first_failure
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .get_or_insert(e);
+        };
+        let workers = rayon::current_num_threads().max(1);
+        // Room for a few frames per worker: workers wait rather than
+        // pile frames up when the assembly falls behind.
+        let (sender, receiver) = mpsc::sync_channel::<PreparedFrame>(2 * workers);
+        let assembled = std::thread::scope(|scope| {
+            let assembler = assembly.map(|assembly| scope.spawn(move || assembly.run(receiver)));
+            let sender = assembly.map(|_| sender);
+            rayon::scope(|workers_scope| {
+                for _ in 0..workers {
+                    let mut sender = sender.clone();
+                    let (next_job, stop, done, fail) = (&next_job, &stop, &done, &fail);
+                    workers_scope.spawn(move |_| {
+                        while !stop.load(Ordering::SeqCst) {
+                            let Some(&job) = jobs.get(next_job.fetch_add(1, Ordering::SeqCst))
+                            else {
+                                break;
+                            };
+                            let made = match job {
+                                Job::Render(f) => render_frame(dir, &self.opts.hash, f, render)
+                                    .inspect(|_| {
+                                        progress(done.fetch_add(1, Ordering::SeqCst) + 1, range_len)
+                                    }),
+                                Job::Read(f) => read_frame(dir, f),
+                            };
+                            let picture = match made {
+                                Ok(picture) => picture,
+                                Err(e) => {
+                                    fail(e);
+                                    break;
+                                }
+                            };
+                            if let (Some(assembly), Some(to_assembly)) = (assembly, &sender) {
+                                let number = match job {
+                                    Job::Render(f) | Job::Read(f) => f,
+                                };
+                                // A closed channel: the assembly failed and
+                                // says why; the frames are still worth making.
+                                if to_assembly
+                                    .send(assembly.prepare(number, &picture))
+                                    .is_err()
+                                {
+                                    sender = None;
+                                }
+                            }
+                        }
+                    });
+                }
+            });
+            drop(sender);
+            assembler.map(|handle| match handle.join() {
+                Ok(result) => result,
+                Err(panic) => std::panic::resume_unwind(panic),
+            })
+        });
+        if let Some(failure) = first_failure
+            .into_inner()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+        {
+            return Err(failure);
+        }
+        assembled.transpose()
+    }
+}
+
+/// Render frame `number` and write its PNG, then its hash file.
+fn render_frame<R>(dir: &Path, hash: &str, number: usize, render: &R) -> Result<RgbImage, FilmError>
+where
+    R: Fn(usize) -> FrameResult,
+{
+    let picture = render(number).map_err(|e| FilmError::Render {
+        frame: number,
+        message: e.to_string(),
+    })?;
+    write_png(&frame_path(dir, number), &picture)?;
+    let hash_file = hash_path(dir, number);
+    write_atomically(&hash_file, |w| w.write_all(hash.as_bytes())).map_err(io_err(&hash_file))?;
+    Ok(picture)
 }
 
 /// The hash file of the assembled film (GIF, MP4, contact sheet).
@@ -478,12 +629,13 @@ fn is_executable(p: &Path) -> bool {
     p.is_file() || p.with_extension("exe").is_file()
 }
 
-fn read_frame(dir: &Path, f: usize) -> Result<image::RgbaImage, FilmError> {
-    let p = frame_path(dir, f);
-    image::open(&p)
-        .map(|i| i.to_rgba8())
+/// Frame `number` read back from its PNG.
+fn read_frame(dir: &Path, number: usize) -> Result<RgbImage, FilmError> {
+    let path = frame_path(dir, number);
+    image::open(&path)
+        .map(|picture| picture.into_rgb8())
         .map_err(|e| FilmError::Image {
-            path: p,
+            path,
             message: e.to_string(),
         })
 }
@@ -500,216 +652,4 @@ pub fn gif_delays(frames: usize, fps: f64) -> Vec<u16> {
     (0..frames)
         .map(|i| (at(i + 1) - at(i)).clamp(1.0, u16::MAX as f64) as u16)
         .collect()
-}
-
-/// Frames sampled to learn a film's GIF palette.
-const GIF_PALETTE_FRAMES: usize = 12;
-
-/// A 256-colour palette (NeuQuant, Dekker 1994) with a lookup table from
-/// colours at 6 bits per channel to palette entries.
-struct Palette {
-    rgb: Vec<u8>,
-    lut: Vec<u8>,
-}
-
-impl Palette {
-    /// Learn the palette of RGBA `pixels`.
-    fn learn(pixels: &[u8]) -> Palette {
-        let nq = color_quant::NeuQuant::new(10, 256, pixels);
-        let lut = (0..1usize << 18)
-            .map(|c| {
-                // The centre of the 6-bit cell.
-                let ch = |shift: usize| (((c >> shift) & 63) * 4 + 2) as u8;
-                nq.index_of(&[ch(12), ch(6), ch(0), 255]) as u8
-            })
-            .collect();
-        Palette {
-            rgb: nq.color_map_rgb(),
-            lut,
-        }
-    }
-
-    /// The palette entry for an RGBA pixel.
-    fn index(&self, p: [u8; 4]) -> u8 {
-        let c = (p[0] as usize >> 2) << 12 | (p[1] as usize >> 2) << 6 | p[2] as usize >> 2;
-        self.lut[c]
-    }
-}
-
-fn write_gif(
-    dir: &Path,
-    total: usize,
-    fps: f64,
-    max_width: u32,
-    out: &Path,
-) -> Result<(), FilmError> {
-    let first = read_frame(dir, 0)?;
-    let (source_width, source_height) = first.dimensions();
-    let scale = if max_width > 0 && source_width > max_width {
-        max_width as f64 / source_width as f64
-    } else {
-        1.0
-    };
-    let width = ((source_width as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
-    let height = ((source_height as f64 * scale).round() as u32).clamp(1, u16::MAX as u32);
-    let delays = gif_delays(total, fps);
-    let gif_err = |e: gif::EncodingError| FilmError::Image {
-        path: out.to_owned(),
-        message: e.to_string(),
-    };
-    let sized = |frame_number: usize| -> Result<image::RgbaImage, FilmError> {
-        let picture = read_frame(dir, frame_number)?;
-        Ok(if picture.dimensions() != (width, height) {
-            image::imageops::resize(
-                &picture,
-                width,
-                height,
-                image::imageops::FilterType::Triangle,
-            )
-        } else {
-            picture
-        })
-    };
-    // One palette for the whole film, learnt from frames spread over it:
-    // one quantisation instead of one per frame, and no colour flicker
-    // from frame to frame.
-    let samples: Vec<usize> = (0..GIF_PALETTE_FRAMES.min(total))
-        .map(|sample| sample * total / GIF_PALETTE_FRAMES.min(total))
-        .collect();
-    let mut pixels = Vec::new();
-    for picture in samples
-        .par_iter()
-        .map(|&frame_number| sized(frame_number))
-        .collect::<Vec<_>>()
-    {
-        pixels.extend_from_slice(picture?.as_raw());
-    }
-    let palette = Palette::learn(&pixels);
-    let mut failure: Option<FilmError> = None;
-    let written = write_atomically(out, |writer| {
-        let run = || -> Result<(), FilmError> {
-            let mut encoder = gif::Encoder::new(writer, width as u16, height as u16, &palette.rgb)
-                .map_err(gif_err)?;
-            encoder.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
-            // Map a batch of frames in parallel, write them in order.
-            let frames: Vec<usize> = (0..total).collect();
-            for batch in frames.chunks(16) {
-                let encoded: Vec<Result<gif::Frame<'static>, FilmError>> = batch
-                    .par_iter()
-                    .map(|&frame_number| {
-                        let picture = sized(frame_number)?;
-                        let indices: Vec<u8> =
-                            picture.pixels().map(|p| palette.index(p.0)).collect();
-                        let mut frame = gif::Frame::from_indexed_pixels(
-                            width as u16,
-                            height as u16,
-                            indices,
-                            None,
-                        );
-                        frame.delay = delays[frame_number];
-                        Ok(frame)
-                    })
-                    .collect();
-                for frame in encoded {
-                    encoder.write_frame(&frame?).map_err(gif_err)?;
-                }
-            }
-            Ok(())
-        };
-        run().map_err(|e| {
-            let msg = e.to_string();
-            failure = Some(e);
-            io::Error::other(msg)
-        })
-    });
-    match (written, failure) {
-        (Ok(()), _) => Ok(()),
-        (Err(_), Some(e)) => Err(e),
-        (Err(e), None) => Err(FilmError::Io {
-            path: out.to_owned(),
-            source: e,
-        }),
-    }
-}
-
-/// A contact sheet: thumbnails `thumb_width` wide of frames 0, `every`,
-/// 2·`every`…, left to right and top to bottom in `columns` columns. Its
-/// size is `columns·thumb_width` by `rows·thumb_height` (fewer columns when
-/// there are fewer thumbnails), where the thumbnail height keeps the first
-/// frame's aspect ratio.
-pub fn contact_sheet(
-    dir: &Path,
-    total: usize,
-    every: usize,
-    columns: u32,
-    thumb_width: u32,
-) -> Result<RgbImage, FilmError> {
-    let picks: Vec<usize> = (0..total).step_by(every.max(1)).collect();
-    let first = read_frame(dir, 0)?;
-    let tw = thumb_width.max(1);
-    let th =
-        ((tw as f64 * first.height() as f64 / first.width().max(1) as f64).round() as u32).max(1);
-    let cols = columns.max(1).min(picks.len().max(1) as u32);
-    let rows = (picks.len() as u32).div_ceil(cols).max(1);
-    let thumbs: Vec<Result<RgbImage, FilmError>> = picks
-        .par_iter()
-        .map(|&f| {
-            let img = image::DynamicImage::ImageRgba8(read_frame(dir, f)?).to_rgb8();
-            Ok(image::imageops::resize(
-                &img,
-                tw,
-                th,
-                image::imageops::FilterType::Triangle,
-            ))
-        })
-        .collect();
-    let mut sheet = RgbImage::new(cols * tw, rows * th);
-    for (i, t) in thumbs.into_iter().enumerate() {
-        let (c, r) = (i as u32 % cols, i as u32 / cols);
-        image::imageops::replace(&mut sheet, &t?, (c * tw) as i64, (r * th) as i64);
-    }
-    Ok(sheet)
-}
-
-fn write_mp4(ffmpeg: &Path, dir: &Path, total: usize, fps: f64) -> Mp4Status {
-    let out = dir.join("film.mp4");
-    let tmp = dir.join(".tmp-film.mp4");
-    let result = std::process::Command::new(ffmpeg)
-        .arg("-y")
-        .args(["-loglevel", "error"])
-        .arg("-framerate")
-        .arg(format!("{fps}"))
-        .args(["-start_number", "0", "-i"])
-        .arg(dir.join("frame_%06d.png"))
-        .arg("-frames:v")
-        .arg(total.to_string())
-        .args([
-            "-c:v",
-            "libx264",
-            "-pix_fmt",
-            "yuv420p",
-            "-vf",
-            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-        ])
-        .arg(&tmp)
-        .stdin(std::process::Stdio::null())
-        .output();
-    match result {
-        Ok(o) if o.status.success() && tmp.is_file() => match std::fs::rename(&tmp, &out) {
-            Ok(()) => Mp4Status::Written(out),
-            Err(e) => Mp4Status::Failed(e.to_string()),
-        },
-        Ok(o) => {
-            let _ = std::fs::remove_file(&tmp);
-            let err = String::from_utf8_lossy(&o.stderr);
-            Mp4Status::Failed(
-                err.lines()
-                    .last()
-                    .unwrap_or("no message")
-                    .trim()
-                    .to_string(),
-            )
-        }
-        Err(e) => Mp4Status::Failed(e.to_string()),
-    }
 }

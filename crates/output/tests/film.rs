@@ -364,3 +364,177 @@ fn temporaries_of_a_killed_run_are_cleared_when_stale() {
         .iter()
         .all(|n| !n.starts_with(".tmp")));
 }
+
+#[test]
+fn a_film_finished_by_another_run_is_assembled_from_its_pngs() {
+    // Run A renders 0..4 while 4..8 are still missing; another run makes
+    // them while A works (here from within A's first frame). A finds every
+    // frame done at its end and assembles the film from the PNGs, the same
+    // film as one run makes while rendering.
+    let shared = tempfile::tempdir().expect("temp dir");
+    let other_run = || {
+        let mut o = opts(shared.path(), "h");
+        o.frames = 4..8;
+        make_film(8, &o, |f| Ok(picture(f)), |_, _| {}).expect("other run");
+    };
+    let mut o = opts(shared.path(), "h");
+    o.frames = 0..4;
+    let r = make_film(
+        8,
+        &o,
+        |f| {
+            if f == 0 {
+                other_run();
+            }
+            Ok(picture(f))
+        },
+        |_, _| {},
+    )
+    .expect("run");
+    assert!(r.missing.is_empty());
+    assert!(r.gif.is_some() && r.contact_sheet.is_some());
+    let single = tempfile::tempdir().expect("temp dir");
+    make_film(8, &opts(single.path(), "h"), |f| Ok(picture(f)), |_, _| {}).expect("run");
+    for name in ["film.gif", "contact.png"] {
+        assert_eq!(
+            std::fs::read(shared.path().join(name)).ok(),
+            std::fs::read(single.path().join(name)).ok(),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn frames_of_different_sizes_make_no_film() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let e = make_film(
+        4,
+        &opts(tmp.path(), "h"),
+        |f| {
+            Ok(if f == 2 {
+                RgbImage::new(W + 2, H)
+            } else {
+                picture(f)
+            })
+        },
+        |_, _| {},
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("frame 2 is 66x48, frame 0 is 64x48: a film's frames are all one size"),
+        "{e}"
+    );
+    let names = files(tmp.path());
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with(".tmp") || n.starts_with("film.")),
+        "{names:?}"
+    );
+}
+
+/// The BT.709 studio-range YUV of an RGB colour, as the MP4's frames hold
+/// it (luma, blue difference, red difference).
+fn bt709(rgb: [u8; 3]) -> [f64; 3] {
+    let [r, g, b] = rgb.map(|c| c as f64 / 255.0);
+    let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    [
+        16.0 + 219.0 * y,
+        128.0 + 224.0 * (b - y) / 1.8556,
+        128.0 + 224.0 * (r - y) / 1.5748,
+    ]
+}
+
+#[cfg(unix)]
+#[test]
+fn ffmpeg_is_fed_every_frame_as_bt709_planes_of_even_size() {
+    // A stand-in that keeps what it is fed, in its last argument.
+    let bin = tempfile::tempdir().expect("temp dir");
+    let keep = fake_program(bin.path(), "for a; do last=$a; done; cat > \"$last\"");
+    let out = tempfile::tempdir().expect("temp dir");
+    let mut o = opts(out.path(), "h");
+    o.mp4 = true;
+    o.ffmpeg = Some(keep);
+    // Odd sizes: the planes are padded to 64×48 with black.
+    let (w, h) = (63u32, 47u32);
+    let colours = [[255u8, 255, 255], [200, 30, 60], [0, 0, 0], [10, 220, 90]];
+    let r = make_film(
+        colours.len(),
+        &o,
+        |f| Ok(RgbImage::from_pixel(w, h, Rgb(colours[f]))),
+        |_, _| {},
+    )
+    .expect("run");
+    assert_eq!(r.mp4, Mp4Status::Written(out.path().join("film.mp4")));
+    let fed = std::fs::read(out.path().join("film.mp4")).expect("read");
+    let (ew, eh) = (64usize, 48usize);
+    let frame_len = ew * eh * 3 / 2;
+    assert_eq!(fed.len(), colours.len() * frame_len);
+    for (f, frame) in fed.chunks_exact(frame_len).enumerate() {
+        let (luma, chroma) = frame.split_at(ew * eh);
+        let (blue, red) = chroma.split_at(ew * eh / 4);
+        let expect = bt709(colours[f]);
+        let near = |got: u8, want: f64| (got as f64 - want).abs() <= 1.0;
+        assert!(near(luma[5 * ew + 7], expect[0]), "frame {f} luma");
+        assert!(near(blue[2 * (ew / 2) + 3], expect[1]), "frame {f} blue");
+        assert!(near(red[2 * (ew / 2) + 3], expect[2]), "frame {f} red");
+        // The padding column and row are black.
+        assert_eq!(
+            (luma[5 * ew + 63], luma[47 * ew + 5]),
+            (16, 16),
+            "frame {f}"
+        );
+    }
+    assert!(!files(out.path()).iter().any(|n| n.starts_with(".tmp")));
+}
+
+#[cfg(unix)]
+#[test]
+fn an_ffmpeg_that_stops_reading_fails_the_mp4_only() {
+    let bin = tempfile::tempdir().expect("temp dir");
+    let quits = fake_program(
+        bin.path(),
+        "for a; do last=$a; done; head -c 100 > \"$last\"; echo 'pipe:0: cannot decode' >&2; exit 1",
+    );
+    let out = tempfile::tempdir().expect("temp dir");
+    let mut o = opts(out.path(), "h");
+    o.mp4 = true;
+    o.ffmpeg = Some(quits.clone());
+    let r = make_film(6, &o, |f| Ok(picture(f)), |_, _| {}).expect("run");
+    assert_eq!(r.mp4, Mp4Status::Failed("pipe:0: cannot decode".into()));
+    assert!(r.gif.is_some() && r.contact_sheet.is_some());
+    let names = files(out.path());
+    assert!(!names.contains(&"film.mp4".to_string()), "{names:?}");
+    assert!(!names.iter().any(|n| n.starts_with(".tmp")), "{names:?}");
+    // A film stopped by a failing frame leaves no MP4 either, nor
+    // ffmpeg's file.
+    let out = tempfile::tempdir().expect("temp dir");
+    let mut o = opts(out.path(), "h");
+    o.mp4 = true;
+    o.ffmpeg = Some(fake_program(
+        bin.path(),
+        "for a; do last=$a; done; cat > \"$last\"",
+    ));
+    let e = make_film(
+        8,
+        &o,
+        |f| {
+            if f == 5 {
+                Err("stopped".into())
+            } else {
+                Ok(picture(f))
+            }
+        },
+        |_, _| {},
+    )
+    .unwrap_err();
+    assert_eq!(e.to_string(), "frame 5: stopped");
+    let names = files(out.path());
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.starts_with(".tmp") || n.starts_with("film.")),
+        "{names:?}"
+    );
+}

@@ -48,8 +48,8 @@ pub struct FilmArgs {
 }
 
 /// Run `film`: the frames of `--frames` (all by default) that are not
-/// already done, then the GIF, the MP4 and the contact sheet once every
-/// frame is.
+/// already done, and the GIF, the MP4 and the contact sheet once every
+/// frame is (while the last frames render, when the others were done).
 pub fn film(args: FilmArgs) -> Result<ExitCode, CliError> {
     let film = load_script(&args.script, &LoadOptions::default())
         .map_err(|e| load_failure(e, "no frame was rendered"))?;

@@ -441,8 +441,8 @@ fn yuv420(picture: &RgbImage) -> Vec<u8> {
     let luma_len = even_width * even_height;
     let chroma_len = luma_len / 4;
     let mut planes = vec![0u8; luma_len + 2 * chroma_len];
-    let (luma, chroma) = planes.split_at_mut(luma_len);
-    let (blue_difference, red_difference) = chroma.split_at_mut(chroma_len);
+    let (luma, chroma_planes) = planes.split_at_mut(luma_len);
+    let (blue_difference, red_difference) = chroma_planes.split_at_mut(chroma_len);
     // The padding is black.
     luma.fill(16);
     blue_difference.fill(128);
@@ -470,19 +470,39 @@ fn yuv420(picture: &RgbImage) -> Vec<u8> {
             row.get(3 * x..3 * x + 3)
                 .map_or([0; 3], |p| [p[0], p[1], p[2]].map(i32::from))
         };
-        for (x, (blue, red)) in blue_row.iter_mut().zip(red_row.iter_mut()).enumerate() {
+        let mut chroma_row = blue_row.iter_mut().zip(red_row.iter_mut());
+        // Whole blocks first, without a test for the edge in the loop.
+        let whole_blocks = if bottom.is_empty() { 0 } else { width / 2 };
+        let blocks = top.chunks_exact(6).zip(bottom.chunks_exact(6));
+        for ((above, below), (blue, red)) in blocks.take(whole_blocks).zip(&mut chroma_row) {
+            let sum = |c: usize| {
+                i32::from(above[c])
+                    + i32::from(above[c + 3])
+                    + i32::from(below[c])
+                    + i32::from(below[c + 3])
+            };
+            (*blue, *red) = chroma([sum(0), sum(1), sum(2)]);
+        }
+        for (x, (blue, red)) in chroma_row.enumerate().map(|(i, c)| (whole_blocks + i, c)) {
             let block = [
                 pixel(top, 2 * x),
                 pixel(top, 2 * x + 1),
                 pixel(bottom, 2 * x),
                 pixel(bottom, 2 * x + 1),
             ];
-            let [r, g, b] = [0, 1, 2].map(|c| (block.iter().map(|p| p[c]).sum::<i32>() + 2) >> 2);
-            *blue = (128 + ((-26 * r - 87 * g + 113 * b + 128) >> 8)).clamp(16, 240) as u8;
-            *red = (128 + ((112 * r - 102 * g - 10 * b + 128) >> 8)).clamp(16, 240) as u8;
+            (*blue, *red) = chroma([0, 1, 2].map(|c| block.iter().map(|p| p[c]).sum()));
         }
     }
     planes
+}
+
+/// The blue and red differences (BT.709, studio range) of the mean of four
+/// pixels whose red, green and blue add up to `sum`.
+fn chroma(sum: [i32; 3]) -> (u8, u8) {
+    let [r, g, b] = sum.map(|s| (s + 2) >> 2);
+    let blue = 128 + ((-26 * r - 87 * g + 113 * b + 128) >> 8);
+    let red = 128 + ((112 * r - 102 * g - 10 * b + 128) >> 8);
+    (blue.clamp(16, 240) as u8, red.clamp(16, 240) as u8)
 }
 
 /// ffmpeg encoding an MP4 from raw frames written to its standard input,

@@ -482,45 +482,45 @@ impl FilmRun<'_> {
         let assembled = std::thread::scope(|scope| {
             let assembler = assembly.map(|assembly| scope.spawn(move || assembly.run(receiver)));
             let sender = assembly.map(|_| sender);
-            rayon::scope(|workers_scope| {
-                for _ in 0..workers {
-                    let mut sender = sender.clone();
-                    let (next_job, stop, done, fail) = (&next_job, &stop, &done, &fail);
-                    workers_scope.spawn(move |_| {
-                        while !stop.load(Ordering::SeqCst) {
-                            let Some(&job) = jobs.get(next_job.fetch_add(1, Ordering::SeqCst))
-                            else {
-                                break;
-                            };
-                            let made = match job {
-                                Job::Render(f) => render_frame(dir, &self.opts.hash, f, render)
-                                    .inspect(|_| {
-                                        progress(done.fetch_add(1, Ordering::SeqCst) + 1, range_len)
-                                    }),
-                                Job::Read(f) => read_frame(dir, f),
-                            };
-                            let picture = match made {
-                                Ok(picture) => picture,
-                                Err(e) => {
-                                    fail(e);
-                                    break;
-                                }
-                            };
-                            if let (Some(assembly), Some(to_assembly)) = (assembly, &sender) {
-                                let number = match job {
-                                    Job::Render(f) | Job::Read(f) => f,
-                                };
-                                // A closed channel: the assembly failed and
-                                // says why; the frames are still worth making.
-                                if to_assembly
-                                    .send(assembly.prepare(number, &picture))
-                                    .is_err()
-                                {
-                                    sender = None;
-                                }
-                            }
+            // One loop on each thread of the pool: a broadcast job runs on
+            // its own thread only, so no loop can start inside another's
+            // frame (a thread waiting for help with its frame may run a
+            // spawned job there), which would hold that frame back until
+            // the nested loop ran out of frames.
+            rayon::broadcast(|_| {
+                let mut sender = sender.clone();
+                while !stop.load(Ordering::SeqCst) {
+                    let Some(&job) = jobs.get(next_job.fetch_add(1, Ordering::SeqCst)) else {
+                        break;
+                    };
+                    let made = match job {
+                        Job::Render(f) => {
+                            render_frame(dir, &self.opts.hash, f, render).inspect(|_| {
+                                progress(done.fetch_add(1, Ordering::SeqCst) + 1, range_len)
+                            })
                         }
-                    });
+                        Job::Read(f) => read_frame(dir, f),
+                    };
+                    let picture = match made {
+                        Ok(picture) => picture,
+                        Err(e) => {
+                            fail(e);
+                            break;
+                        }
+                    };
+                    if let (Some(assembly), Some(to_assembly)) = (assembly, &sender) {
+                        let number = match job {
+                            Job::Render(f) | Job::Read(f) => f,
+                        };
+                        // A closed channel: the assembly failed and says
+                        // why; the frames are still worth making.
+                        if to_assembly
+                            .send(assembly.prepare(number, &picture))
+                            .is_err()
+                        {
+                            sender = None;
+                        }
+                    }
                 }
             });
             drop(sender);

@@ -149,10 +149,9 @@ impl Mesh {
             [const { MaybeUninit::<(usize, S::F, S::M)>::uninit() }; KEPT_CROSSINGS];
         let mut kept = 0;
         for (i, tri) in self.tris.iter().enumerate() {
-            let (t, hit) = crossing_lanes(s, tri, r);
-            if !s.any(hit) {
+            let Some((t, hit)) = crossing_lanes(s, tri, r) else {
                 continue;
-            }
+            };
             if kept < KEPT_CROSSINGS {
                 crossings[kept].write((i, t, hit));
             }
@@ -178,8 +177,9 @@ impl Mesh {
             }
         } else if s.any(beyond_first) {
             for (i, tri) in self.tris.iter().enumerate() {
-                let (t, hit) = crossing_lanes(s, tri, r);
-                nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
+                if let Some((t, hit)) = crossing_lanes(s, tri, r) {
+                    nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
+                }
             }
         }
         let two = s.lt(t1, inf);
@@ -255,9 +255,11 @@ fn nearer_beyond<S: Simd>(
 
 /// A ray's crossing of triangle `tri` in every lane, as [`Mesh::shoot`]
 /// computes it (Möller–Trumbore, the same operations in the same order):
-/// its distance, and the lanes that cross.
+/// its distance, and the lanes that cross; `None` when no lane does. The
+/// rest is left undone once no lane's `u` is in range: most triangles of
+/// a mesh lie beside a packet's rays.
 #[inline(always)]
-fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> (S::F, S::M) {
+fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> Option<(S::F, S::M)> {
     let (e1, e2) = (splat3(s, tri.e1), splat3(s, tri.e2));
     let (zero, one) = (s.splat(0.0), s.splat(1.0));
     let p = cross(s, r.d, e2);
@@ -265,13 +267,20 @@ fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> (S::F, S::M) {
     let inv = s.div(one, det);
     let from_corner = sub_point(s, r.o, tri.v0);
     let u = s.mul(dot(s, from_corner, p), inv);
-    let q = cross(s, from_corner, e1);
-    let v = s.mul(dot(s, r.d, q), inv);
     let flat = s.lt(s.abs(det), s.splat(1e-300));
     let outside_u = not(s, s.and(s.ge(u, zero), s.le(u, one)));
+    let in_u = not(s, s.or(flat, outside_u));
+    if !s.any(in_u) {
+        return None;
+    }
+    let q = cross(s, from_corner, e1);
+    let v = s.mul(dot(s, r.d, q), inv);
     let outside_v = s.or(s.lt(v, zero), s.gt(s.add(u, v), one));
-    let hit = not(s, s.or(s.or(flat, outside_u), outside_v));
-    (s.mul(dot(s, e2, q), inv), hit)
+    let hit = s.andnot(in_u, outside_v);
+    if !s.any(hit) {
+        return None;
+    }
+    Some((s.mul(dot(s, e2, q), inv), hit))
 }
 
 /// ARS: curves of points joined into a closed faceted surface.

@@ -415,6 +415,14 @@ impl Renderer {
                     continue;
                 }
                 let facing = &facing[row * tw..(row + 1) * tw];
+                if *found == tw * rows {
+                    // Every pixel hit: no test, and the loops vectorise.
+                    for (c, &f) in rgb.iter_mut().zip(facing) {
+                        *c = [rt_grey(f) as f32; 3];
+                    }
+                    alpha.fill(1.0);
+                    continue;
+                }
                 let pixels = rgb.iter_mut().zip(alpha);
                 for (((c, a), &f), &bg) in pixels.zip(facing).zip(&plan.bg_row) {
                     (*c, *a) = if f == FACING_MISS {

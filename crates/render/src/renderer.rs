@@ -1,8 +1,10 @@
 //! The renderer: a prepared scene with its camera, lights and looks, and a
 //! frame rendered in named steps: the frame's plan ([`Renderer::plan`]),
 //! each band of tiles ([`Renderer::render_band`]), each tile's primary
-//! rays ([`Renderer::trace_tile`]) and its pixels ([`Renderer::fill_tile`]),
-//! then the auxiliary images ([`Renderer::render_aovs`]).
+//! rays ([`Renderer::trace_tile`]) and its pixels ([`Renderer::fill_tile`];
+//! under rt's shading with one ray a pixel, the band's pixels at once,
+//! [`Renderer::fill_band_rt`]), then the auxiliary images
+//! ([`Renderer::render_aovs`]).
 //!
 //! Every pixel is computed independently from its own rays, so a picture is
 //! bit-for-bit the same whatever the number of threads.
@@ -461,6 +463,7 @@ impl Renderer {
                 rgb[start..start + tw].copy_from_slice(&plan.bg_row[..tw]);
                 alpha[start..start + tw].fill(0.0);
             }
+            // rt's shading with one ray a pixel fills whole bands instead.
             debug_assert!(self.shading != Shading::RtEyeLight, "see fill_band_rt");
             let hits = &ws.hits[..found];
             for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {

@@ -1,8 +1,10 @@
 //! The renderer: a prepared scene with its camera, lights and looks, and a
 //! frame rendered in named steps: the frame's plan ([`Renderer::plan`]),
 //! each band of tiles ([`Renderer::render_band`]), each tile's primary
-//! rays ([`Renderer::trace_tile`]) and its pixels ([`Renderer::fill_tile`]),
-//! then the auxiliary images ([`Renderer::render_aovs`]).
+//! rays ([`Renderer::trace_tile`]) and its pixels ([`Renderer::fill_tile`];
+//! under rt's shading with one ray a pixel, the band's pixels at once,
+//! [`Renderer::fill_band_rt`]), then the auxiliary images
+//! ([`Renderer::render_aovs`]).
 //!
 //! Every pixel is computed independently from its own rays, so a picture is
 //! bit-for-bit the same whatever the number of threads.
@@ -267,6 +269,25 @@ impl Renderer {
             (y0, y0 + rows),
             &mut ws.lists,
         );
+        if plan.samples == 1 && self.shading == Shading::RtEyeLight {
+            let tiles = w.div_ceil(TILE);
+            ws.band_facing.resize_with(tiles, Default::default);
+            for (index, x0) in (0..w).step_by(TILE).enumerate() {
+                let tile = Tile {
+                    x0,
+                    x1: (x0 + TILE).min(w),
+                    y0,
+                    y1: y0 + rows,
+                };
+                // Traced into the tile's own place of the band.
+                std::mem::swap(&mut ws.facing, &mut ws.band_facing[index].1);
+                let found = self.trace_tile(plan, index, tile, ws);
+                std::mem::swap(&mut ws.facing, &mut ws.band_facing[index].1);
+                ws.band_facing[index].0 = found;
+            }
+            Self::fill_band_rt(plan, rows, rgb, alpha, &ws.band_facing[..tiles]);
+            return;
+        }
         for (index, x0) in (0..w).step_by(TILE).enumerate() {
             let tile = Tile {
                 x0,
@@ -366,6 +387,56 @@ impl Renderer {
         found
     }
 
+    /// Under rt's shading with one ray a pixel, the `rows` rows of a band's
+    /// pixels from its tiles' hits, `tiles` (for each tile, left to right,
+    /// its number of hits and how its pixels face their rays,
+    /// [`Prepared::tile_facing`]): each pixel a grey (one value: the colour
+    /// array of `intensity` would be read back whole from the stack it was
+    /// just stored to, which stalls) or the background. Written row by
+    /// row across the whole band, so that the picture's memory is written
+    /// in order: tile by tile, each row of a tile began a line of memory
+    /// that the processor had to fetch first, and the writes waited for it.
+    fn fill_band_rt(
+        plan: &FramePlan<'_>,
+        rows: usize,
+        rgb: &mut [[f32; 3]],
+        alpha: &mut [f32],
+        tiles: &[(usize, Vec<f64>)],
+    ) {
+        let w = plan.width;
+        for row in 0..rows {
+            for (index, (found, facing)) in tiles.iter().enumerate() {
+                let x0 = index * TILE;
+                let tw = (x0 + TILE).min(w) - x0;
+                let start = row * w + x0;
+                let (rgb, alpha) = (&mut rgb[start..start + tw], &mut alpha[start..start + tw]);
+                // No hit: `facing` was not written (see `trace_tile`).
+                if *found == 0 {
+                    rgb.copy_from_slice(&plan.bg_row[..tw]);
+                    alpha.fill(0.0);
+                    continue;
+                }
+                let facing = &facing[row * tw..(row + 1) * tw];
+                if *found == tw * rows {
+                    // Every pixel hit: no test, and the loops vectorise.
+                    for (c, &f) in rgb.iter_mut().zip(facing) {
+                        *c = [rt_grey(f) as f32; 3];
+                    }
+                    alpha.fill(1.0);
+                    continue;
+                }
+                let pixels = rgb.iter_mut().zip(alpha);
+                for (((c, a), &f), &bg) in pixels.zip(facing).zip(&plan.bg_row) {
+                    (*c, *a) = if f == FACING_MISS {
+                        (bg, 0.0)
+                    } else {
+                        ([rt_grey(f) as f32; 3], 1.0)
+                    };
+                }
+            }
+        }
+    }
+
     /// The pixels of `tile` from its `found` hits: each shaded, the others
     /// background; supersampled pixels the mean of their samples.
     #[inline]
@@ -387,34 +458,13 @@ impl Renderer {
             // picture take 1.6 times as long. Sharing the shading call with
             // the loop below through a closure costs 4 % more instructions.
             let tw = x1 - x0;
-            // No hit: `facing` was not written (see `trace_tile`).
-            if self.shading == Shading::RtEyeLight && found > 0 {
-                // Every pixel written once, row by row: a grey (one value:
-                // the colour array of `intensity` would be read back whole
-                // from the stack it was just stored to, which stalls) or
-                // the background.
-                let facing = ws.facing[..tw * rows].chunks_exact(tw);
-                for (row, facing) in facing.enumerate() {
-                    let start = row * w + x0;
-                    let pixels = rgb[start..start + tw].iter_mut().zip(&mut alpha[start..]);
-                    for (((c, a), &f), &bg) in pixels.zip(facing).zip(&plan.bg_row) {
-                        (*c, *a) = if f == FACING_MISS {
-                            (bg, 0.0)
-                        } else {
-                            ([rt_grey(f) as f32; 3], 1.0)
-                        };
-                    }
-                }
-                return;
-            }
             for row in 0..rows {
                 let start = row * w + x0;
                 rgb[start..start + tw].copy_from_slice(&plan.bg_row[..tw]);
                 alpha[start..start + tw].fill(0.0);
             }
-            if self.shading == Shading::RtEyeLight {
-                return;
-            }
+            // rt's shading with one ray a pixel fills whole bands instead.
+            debug_assert!(self.shading != Shading::RtEyeLight, "see fill_band_rt");
             let hits = &ws.hits[..found];
             for (h, ((k, hit), &normal)) in hits.iter().zip(&ws.normals).enumerate() {
                 let k = *k as usize;

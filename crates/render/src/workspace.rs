@@ -31,6 +31,9 @@ pub(crate) struct Workspace<'a> {
     /// pixel of the tile faces its ray, or `FACING_MISS`
     /// ([`sv_trace::Prepared::tile_facing`]).
     pub(crate) facing: Vec<f64>,
+    /// The same for each tile of the band, left to right, with its number
+    /// of hits.
+    pub(crate) band_facing: Vec<(usize, Vec<f64>)>,
     /// Where the tile's shadow rays look for occluders.
     pub(crate) occluders: Occluders<'a>,
 }
@@ -53,6 +56,7 @@ impl<'a> Workspace<'a> {
             hit_rays: Vec::new(),
             normals: Vec::new(),
             facing: Vec::new(),
+            band_facing: Vec::new(),
             occluders: Occluders::new(lights, buffers),
         }
     }

@@ -1,9 +1,15 @@
 use super::{Seg, SegLanes};
 use crate::body::Warning;
 use crate::Body;
+use std::mem::MaybeUninit;
 use sv_math::lanes::{cross, dot, not, splat3, sub_point, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DVec3, Ray};
+
+/// How many triangles' crossings [`Mesh::shoot_lanes`] keeps from its
+/// first pass for its second: a packet of rays crosses few of a mesh's
+/// triangles.
+const KEPT_CROSSINGS: usize = 16;
 
 #[derive(Clone, Debug)]
 struct Tri {
@@ -135,11 +141,21 @@ impl Mesh {
         let (zero, inf, eps) = (s.splat(0.0), s.splat(f64::INFINITY), s.splat(self.eps));
         let (mut t0, mut f0, mut farthest) = (inf, zero, s.neg(inf));
         let mut not_finite = s.none();
+        // The crossings found, in the order of the triangles, for the
+        // second pass (which otherwise tests every triangle again); only
+        // the first `kept` places are written, and none are kept once
+        // there are more than it holds.
+        let mut crossings =
+            [const { MaybeUninit::<(usize, S::F, S::M)>::uninit() }; KEPT_CROSSINGS];
+        let mut kept = 0;
         for (i, tri) in self.tris.iter().enumerate() {
-            let (t, hit) = crossing_lanes(s, tri, r);
-            if !s.any(hit) {
+            let Some((t, hit)) = crossing_lanes(s, tri, r) else {
                 continue;
+            };
+            if kept < KEPT_CROSSINGS {
+                crossings[kept].write((i, t, hit));
             }
+            kept += 1;
             // `t - t` is zero for a finite `t`, not a number otherwise.
             not_finite = s.or(not_finite, s.andnot(hit, s.eq(s.sub(t, t), zero)));
             let nearer = s.and(hit, s.lt(t, t0));
@@ -149,15 +165,21 @@ impl Mesh {
         }
         let (mut t1, mut f1) = (inf, zero);
         let beyond_first = s.andnot(s.gt(s.sub(farthest, t0), eps), not_finite);
-        if s.any(beyond_first) {
+        // The nearest crossing more than `eps` beyond the first: a triangle
+        // no lane crosses changes nothing, so the kept crossings, in the
+        // same order, give what testing every triangle again gives.
+        let past_first = (t0, beyond_first, eps);
+        if s.any(beyond_first) && kept <= KEPT_CROSSINGS {
+            for c in &crossings[..kept] {
+                // SAFETY: the first `kept` places were written.
+                let (i, t, hit) = unsafe { c.assume_init() };
+                nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
+            }
+        } else if s.any(beyond_first) {
             for (i, tri) in self.tris.iter().enumerate() {
-                let (t, hit) = crossing_lanes(s, tri, r);
-                let next = s.and(
-                    s.and(hit, beyond_first),
-                    s.and(s.gt(s.sub(t, t0), eps), s.lt(t, t1)),
-                );
-                t1 = s.select(next, t, t1);
-                f1 = s.select(next, s.splat(i as f64), f1);
+                if let Some((t, hit)) = crossing_lanes(s, tri, r) {
+                    nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
+                }
             }
         }
         let two = s.lt(t1, inf);
@@ -212,11 +234,32 @@ impl Mesh {
     }
 }
 
+/// [`Mesh::shoot_lanes`]' second pass for crossing `(i, t, hit)` of
+/// triangle `i`: kept as `(t1, f1)` in the lanes of `beyond` where it lies
+/// more than `eps` beyond `t0` and nearer than `t1`.
+#[inline(always)]
+fn nearer_beyond<S: Simd>(
+    s: S,
+    (t0, beyond, eps): (S::F, S::M, S::F),
+    (i, t, hit): (usize, S::F, S::M),
+    t1: &mut S::F,
+    f1: &mut S::F,
+) {
+    let next = s.and(
+        s.and(hit, beyond),
+        s.and(s.gt(s.sub(t, t0), eps), s.lt(t, *t1)),
+    );
+    *t1 = s.select(next, t, *t1);
+    *f1 = s.select(next, s.splat(i as f64), *f1);
+}
+
 /// A ray's crossing of triangle `tri` in every lane, as [`Mesh::shoot`]
 /// computes it (Möller–Trumbore, the same operations in the same order):
-/// its distance, and the lanes that cross.
+/// its distance, and the lanes that cross; `None` when no lane does. The
+/// rest is left undone once no lane's `u` is in range: most triangles of
+/// a mesh lie beside a packet's rays.
 #[inline(always)]
-fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> (S::F, S::M) {
+fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> Option<(S::F, S::M)> {
     let (e1, e2) = (splat3(s, tri.e1), splat3(s, tri.e2));
     let (zero, one) = (s.splat(0.0), s.splat(1.0));
     let p = cross(s, r.d, e2);
@@ -224,13 +267,20 @@ fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> (S::F, S::M) {
     let inv = s.div(one, det);
     let from_corner = sub_point(s, r.o, tri.v0);
     let u = s.mul(dot(s, from_corner, p), inv);
-    let q = cross(s, from_corner, e1);
-    let v = s.mul(dot(s, r.d, q), inv);
     let flat = s.lt(s.abs(det), s.splat(1e-300));
     let outside_u = not(s, s.and(s.ge(u, zero), s.le(u, one)));
+    let in_u = not(s, s.or(flat, outside_u));
+    if !s.any(in_u) {
+        return None;
+    }
+    let q = cross(s, from_corner, e1);
+    let v = s.mul(dot(s, r.d, q), inv);
     let outside_v = s.or(s.lt(v, zero), s.gt(s.add(u, v), one));
-    let hit = not(s, s.or(s.or(flat, outside_u), outside_v));
-    (s.mul(dot(s, e2, q), inv), hit)
+    let hit = s.andnot(in_u, outside_v);
+    if !s.any(hit) {
+        return None;
+    }
+    Some((s.mul(dot(s, e2, q), inv), hit))
 }
 
 /// ARS: curves of points joined into a closed faceted surface.

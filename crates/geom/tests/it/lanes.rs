@@ -141,3 +141,60 @@ fn faceted_solids_in_lanes_agree_with_the_scalar_code() {
         );
     }
 }
+
+/// A bellows: an ARS of twenty folds between its two apexes, each curve
+/// eight points round, of radius 1 and 0.4 in turn. A ray along its axis
+/// between the two radii crosses every fold.
+fn bellows() -> Body {
+    let folds = 20;
+    let ring = |z: f64, radius: f64| -> Vec<DVec3> {
+        (0..8)
+            .map(|k| {
+                let angle = k as f64 * std::f64::consts::FRAC_PI_4;
+                DVec3::new(radius * angle.cos(), radius * angle.sin(), z)
+            })
+            .collect()
+    };
+    let mut curves = vec![ring(-1.0, 0.0)];
+    for k in 1..=folds {
+        let z = -1.0 + 2.0 * k as f64 / (folds + 1) as f64;
+        curves.push(ring(z, if k % 2 == 1 { 1.0 } else { 0.4 }));
+    }
+    curves.push(ring(1.0, 0.0));
+    ars(&curves)
+}
+
+#[test]
+fn a_mesh_crossed_more_often_than_the_lanes_keep_agrees_too() {
+    let body = bellows();
+    let shape = prepare_one(&body).0;
+    let mut rng = Pcg64::seed_from_u64(1972);
+    // Along the axis between the folds' radii, mixed with random rays and
+    // rays at the corners: packets whose rays cross more than the 16
+    // triangles `Mesh::shoot_lanes` keeps from its first pass.
+    let mut rays = rays(&body, &mut rng);
+    for k in 0..64 {
+        let angle = rng.gen_range(0.0..std::f64::consts::TAU);
+        let dir = if k % 2 == 0 { DVec3::Z } else { -DVec3::Z };
+        let at = DVec3::new(0.6 * angle.cos(), 0.6 * angle.sin(), 0.0);
+        rays.insert(k * 7 % rays.len(), Ray::new(at - dir * 3.0, dir));
+    }
+    let most = rays
+        .iter()
+        .map(|r| {
+            let mut segs: Vec<Seg> = Vec::new();
+            shape.shoot(r, &mut segs);
+            segs.len()
+        })
+        .max()
+        .unwrap_or(0);
+    // Nine segments: at least eighteen triangles crossed by one ray.
+    assert!(most >= 9, "at most {most} segments");
+    let (four, eight) = (agree::<4>(&shape, &rays), agree::<8>(&shape, &rays));
+    assert_eq!(four, eight);
+    assert!(
+        four > rays.len() / 10,
+        "{four} of {} rays met it",
+        rays.len()
+    );
+}

@@ -248,8 +248,15 @@ pub fn write_atomically(
 }
 
 fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {
+    let png = encode_png(path, img)?;
+    crate::images::put_in_place(png, path).map_err(io_err(path))
+}
+
+/// `img` encoded as a PNG into a temporary file beside `path`, to be put
+/// in place with [`crate::images::put_in_place`].
+fn encode_png(path: &Path, img: &RgbImage) -> Result<tempfile::NamedTempFile, FilmError> {
     let mut enc_err = None;
-    let r = write_atomically(path, |w| {
+    let r = crate::images::write_beside(path, |w| {
         // Frames are many and short-lived: fast deflate with adaptive
         // filters costs about a third of the default's time for files a
         // few per cent larger.
@@ -272,7 +279,7 @@ fn write_png(path: &Path, img: &RgbImage) -> Result<(), FilmError> {
         })
     });
     match (r, enc_err) {
-        (Ok(()), _) => Ok(()),
+        (Ok(png), _) => Ok(png),
         (Err(_), Some(message)) => Err(FilmError::Image {
             path: path.to_owned(),
             message,
@@ -479,8 +486,19 @@ impl FilmRun<'_> {
         // Room for a few frames per worker: workers wait rather than
         // pile frames up when the assembly falls behind.
         let (sender, receiver) = mpsc::sync_channel::<PreparedFrame>(2 * workers);
+        let (to_disk, rendered_pngs) = mpsc::channel::<(usize, tempfile::NamedTempFile)>();
         let assembled = std::thread::scope(|scope| {
             let assembler = assembly.map(|assembly| scope.spawn(move || assembly.run(receiver)));
+            // Syncing a file waits for the disk: a thread of its own puts
+            // the PNGs in place, so that the workers' cores keep working.
+            scope.spawn(|| {
+                for (number, png) in rendered_pngs {
+                    match put_frame_in_place(dir, &self.opts.hash, number, png) {
+                        Ok(()) => progress(done.fetch_add(1, Ordering::SeqCst) + 1, range_len),
+                        Err(e) => fail(e),
+                    }
+                }
+            });
             let sender = assembly.map(|_| sender);
             // One loop on each thread of the pool: a broadcast job runs on
             // its own thread only, so no loop can start inside another's
@@ -489,16 +507,17 @@ impl FilmRun<'_> {
             // the nested loop ran out of frames.
             rayon::broadcast(|_| {
                 let mut sender = sender.clone();
+                let to_disk = to_disk.clone();
                 while !stop.load(Ordering::SeqCst) {
                     let Some(&job) = jobs.get(next_job.fetch_add(1, Ordering::SeqCst)) else {
                         break;
                     };
                     let made = match job {
-                        Job::Render(f) => {
-                            render_frame(dir, &self.opts.hash, f, render).inspect(|_| {
-                                progress(done.fetch_add(1, Ordering::SeqCst) + 1, range_len)
-                            })
-                        }
+                        Job::Render(f) => render_frame(dir, f, render).map(|(picture, png)| {
+                            // The syncing thread outlives the workers.
+                            let _ = to_disk.send((f, png));
+                            picture
+                        }),
                         Job::Read(f) => read_frame(dir, f),
                     };
                     let picture = match made {
@@ -523,6 +542,7 @@ impl FilmRun<'_> {
                     }
                 }
             });
+            drop(to_disk);
             drop(sender);
             assembler.map(|handle| match handle.join() {
                 Ok(result) => result,
@@ -539,8 +559,12 @@ impl FilmRun<'_> {
     }
 }
 
-/// Render frame `number` and write its PNG, then its hash file.
-fn render_frame<R>(dir: &Path, hash: &str, number: usize, render: &R) -> Result<RgbImage, FilmError>
+/// Render frame `number` and encode its PNG beside its place.
+fn render_frame<R>(
+    dir: &Path,
+    number: usize,
+    render: &R,
+) -> Result<(RgbImage, tempfile::NamedTempFile), FilmError>
 where
     R: Fn(usize) -> FrameResult,
 {
@@ -548,10 +572,22 @@ where
         frame: number,
         message: e.to_string(),
     })?;
-    write_png(&frame_path(dir, number), &picture)?;
+    let png = encode_png(&frame_path(dir, number), &picture)?;
+    Ok((picture, png))
+}
+
+/// Put a frame's PNG in place, then write its hash file: the frame counts
+/// as done only once its picture is on disk.
+fn put_frame_in_place(
+    dir: &Path,
+    hash: &str,
+    number: usize,
+    png: tempfile::NamedTempFile,
+) -> Result<(), FilmError> {
+    let png_path = frame_path(dir, number);
+    crate::images::put_in_place(png, &png_path).map_err(io_err(&png_path))?;
     let hash_file = hash_path(dir, number);
-    write_atomically(&hash_file, |w| w.write_all(hash.as_bytes())).map_err(io_err(&hash_file))?;
-    Ok(picture)
+    write_atomically(&hash_file, |w| w.write_all(hash.as_bytes())).map_err(io_err(&hash_file))
 }
 
 /// The hash file of the assembled film (GIF, MP4, contact sheet).

@@ -125,6 +125,17 @@ pub fn write_atomic_io(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
+    put_in_place(write_beside(path, fill)?, path)
+}
+
+/// The first half of [`write_atomic`]: `fill` written to a temporary file
+/// in `path`'s folder and flushed, neither synced nor renamed yet; the
+/// temporary is deleted if dropped. [`put_in_place`] does the rest, on
+/// another thread if waiting for the disk should not hold this one up.
+pub fn write_beside(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<tempfile::NamedTempFile> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -143,6 +154,12 @@ pub fn write_atomic_io(
         fill(&mut w)?;
         w.flush()?;
     }
+    Ok(tmp)
+}
+
+/// The second half of [`write_atomic`]: the temporary file from
+/// [`write_beside`] synced to disk and renamed over `path`.
+pub fn put_in_place(tmp: tempfile::NamedTempFile, path: &Path) -> std::io::Result<()> {
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())

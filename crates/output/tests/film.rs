@@ -425,13 +425,7 @@ fn frames_of_different_sizes_make_no_film() {
             .ends_with("frame 2 is 66x48, frame 0 is 64x48: a film's frames are all one size"),
         "{e}"
     );
-    let names = files(tmp.path());
-    assert!(
-        !names
-            .iter()
-            .any(|n| n.starts_with(".tmp") || n.starts_with("film.")),
-        "{names:?}"
-    );
+    assert_no_film_nor_temporaries(tmp.path());
 }
 
 /// The BT.709 studio-range YUV of an RGB colour, as the MP4's frames hold
@@ -530,7 +524,12 @@ fn an_ffmpeg_that_stops_reading_fails_the_mp4_only() {
     )
     .unwrap_err();
     assert_eq!(e.to_string(), "frame 5: stopped");
-    let names = files(out.path());
+    assert_no_film_nor_temporaries(out.path());
+}
+
+/// A film that failed leaves no GIF, no MP4 and no temporary file.
+fn assert_no_film_nor_temporaries(dir: &Path) {
+    let names = files(dir);
     assert!(
         !names
             .iter()

@@ -72,6 +72,23 @@ struct FramePlan<'a> {
     lights: Vec<LightAt>,
 }
 
+/// The tiles of a band `rows` high from row `y0` of a picture `width`
+/// wide, left to right, numbered from 0.
+fn band_tiles(width: usize, y0: usize, rows: usize) -> impl Iterator<Item = (usize, Tile)> {
+    (0..width)
+        .step_by(TILE)
+        .enumerate()
+        .map(move |(index, x0)| {
+            let tile = Tile {
+                x0,
+                x1: (x0 + TILE).min(width),
+                y0,
+                y1: y0 + rows,
+            };
+            (index, tile)
+        })
+}
+
 /// Where light `l` is, as its shadow rays need it.
 fn light_at(l: &Light) -> LightAt {
     match l.kind {
@@ -272,13 +289,7 @@ impl Renderer {
         if plan.samples == 1 && self.shading == Shading::RtEyeLight {
             let tiles = w.div_ceil(TILE);
             ws.band_facing.resize_with(tiles, Default::default);
-            for (index, x0) in (0..w).step_by(TILE).enumerate() {
-                let tile = Tile {
-                    x0,
-                    x1: (x0 + TILE).min(w),
-                    y0,
-                    y1: y0 + rows,
-                };
+            for (index, tile) in band_tiles(w, y0, rows) {
                 // Traced into the tile's own place of the band.
                 std::mem::swap(&mut ws.facing, &mut ws.band_facing[index].1);
                 let found = self.trace_tile(plan, index, tile, ws);
@@ -288,13 +299,7 @@ impl Renderer {
             Self::fill_band_rt(plan, rows, rgb, alpha, &ws.band_facing[..tiles]);
             return;
         }
-        for (index, x0) in (0..w).step_by(TILE).enumerate() {
-            let tile = Tile {
-                x0,
-                x1: (x0 + TILE).min(w),
-                y0,
-                y1: y0 + rows,
-            };
+        for (index, tile) in band_tiles(w, y0, rows) {
             let found = self.trace_tile(plan, index, tile, ws);
             // rt's shading casts no shadows.
             if plan.settings.shadows && self.shading != Shading::RtEyeLight {

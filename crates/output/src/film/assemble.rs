@@ -296,17 +296,23 @@ impl Assembly {
         if self.palette.get().is_some() {
             return;
         }
-        let mut pixels = Vec::new();
-        for sample in &plan.samples {
-            match waiting.get(sample).and_then(|frame| frame.gif.as_ref()) {
-                // With opaque alpha, as the quantiser takes pixels.
-                Some(GifFrame::Scaled(scaled)) => {
-                    pixels.extend(scaled.pixels().flat_map(|p| [p[0], p[1], p[2], 255]))
-                }
-                // A sample is never compressed: the palette needs it first.
-                _ => return,
-            }
-        }
+        // A sample is never compressed: the palette needs it first.
+        let scaled_samples: Option<Vec<&RgbImage>> = plan
+            .samples
+            .iter()
+            .map(|sample| match waiting.get(sample)?.gif.as_ref()? {
+                GifFrame::Scaled(scaled) => Some(scaled),
+                GifFrame::Compressed(_) => None,
+            })
+            .collect();
+        let Some(scaled_samples) = scaled_samples else {
+            return;
+        };
+        // With opaque alpha, as the quantiser takes pixels.
+        let pixels: Vec<u8> = scaled_samples
+            .iter()
+            .flat_map(|scaled| scaled.pixels().flat_map(|p| [p[0], p[1], p[2], 255]))
+            .collect();
         let _ = self.palette.set(Palette::learn(&pixels));
     }
 

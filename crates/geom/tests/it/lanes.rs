@@ -126,19 +126,25 @@ fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
     with_segment
 }
 
+/// [`agree`] in packets of four and of eight rays, the same rays meeting
+/// the shape in both, and more than a tenth of them.
+fn agree_in_four_and_eight_lanes(shape: &Shape, rays: &[Ray]) {
+    let (four, eight) = (agree::<4>(shape, rays), agree::<8>(shape, rays));
+    assert_eq!(four, eight);
+    assert!(
+        four > rays.len() / 10,
+        "{four} of {} rays met it",
+        rays.len()
+    );
+}
+
 #[test]
 fn faceted_solids_in_lanes_agree_with_the_scalar_code() {
     let mut rng = Pcg64::seed_from_u64(1971);
     for body in meshes() {
         let rays = rays(&body, &mut rng);
         let shape = prepare_one(&body).0;
-        let (four, eight) = (agree::<4>(&shape, &rays), agree::<8>(&shape, &rays));
-        assert_eq!(four, eight);
-        assert!(
-            four > rays.len() / 10,
-            "{four} of {} rays met it",
-            rays.len()
-        );
+        agree_in_four_and_eight_lanes(&shape, &rays);
     }
 }
 
@@ -190,11 +196,5 @@ fn a_mesh_crossed_more_often_than_the_lanes_keep_agrees_too() {
         .unwrap_or(0);
     // Nine segments: at least eighteen triangles crossed by one ray.
     assert!(most >= 9, "at most {most} segments");
-    let (four, eight) = (agree::<4>(&shape, &rays), agree::<8>(&shape, &rays));
-    assert_eq!(four, eight);
-    assert!(
-        four > rays.len() / 10,
-        "{four} of {} rays met it",
-        rays.len()
-    );
+    agree_in_four_and_eight_lanes(&shape, &rays);
 }

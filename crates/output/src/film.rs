@@ -333,8 +333,7 @@ where
     P: Fn(usize, usize) + Sync,
 {
     let run = FilmRun::begin(total, opts)?;
-    let jobs: Vec<Job> = run.rendered.iter().map(|&f| Job::Render(f)).collect();
-    run.make(&jobs, &render, &progress, None)?;
+    run.render_only(&render, &progress)?;
     Ok((run.rendered, run.reused))
 }
 
@@ -381,8 +380,7 @@ where
             .collect();
         run.make(&jobs, &render, &progress, Some(&assembly))?
     } else {
-        let jobs: Vec<Job> = run.rendered.iter().map(|&f| Job::Render(f)).collect();
-        run.make(&jobs, &render, &progress, None)?;
+        run.render_only(&render, &progress)?;
         missing = missing_elsewhere();
         if total > 0 && missing.is_empty() {
             // Another run made the rest meanwhile.
@@ -452,6 +450,16 @@ impl FilmRun<'_> {
         })
     }
 
+    /// Render the frames to render, with no assembly.
+    fn render_only<R, P>(&self, render: &R, progress: &P) -> Result<(), FilmError>
+    where
+        R: Fn(usize) -> FrameResult + Sync,
+        P: Fn(usize, usize) + Sync,
+    {
+        let jobs: Vec<Job> = self.rendered.iter().map(|&f| Job::Render(f)).collect();
+        self.make(&jobs, render, progress, None).map(|_| ())
+    }
+
     /// Do `jobs` on every thread of rayon's pool, each taking the next job
     /// in turn so that frames finish about in order; with an `assembly`,
     /// each frame is prepared for it and handed to it on its own thread.
@@ -512,13 +520,16 @@ impl FilmRun<'_> {
                     let Some(&job) = jobs.get(next_job.fetch_add(1, Ordering::SeqCst)) else {
                         break;
                     };
-                    let made = match job {
-                        Job::Render(f) => render_frame(dir, f, render).map(|(picture, png)| {
-                            // The syncing thread outlives the workers.
-                            let _ = to_disk.send((f, png));
-                            picture
-                        }),
-                        Job::Read(f) => read_frame(dir, f),
+                    let (number, made) = match job {
+                        Job::Render(f) => (
+                            f,
+                            render_frame(dir, f, render).map(|(picture, png)| {
+                                // The syncing thread outlives the workers.
+                                let _ = to_disk.send((f, png));
+                                picture
+                            }),
+                        ),
+                        Job::Read(f) => (f, read_frame(dir, f)),
                     };
                     let picture = match made {
                         Ok(picture) => picture,
@@ -528,9 +539,6 @@ impl FilmRun<'_> {
                         }
                     };
                     if let (Some(assembly), Some(to_assembly)) = (assembly, &sender) {
-                        let number = match job {
-                            Job::Render(f) | Job::Read(f) => f,
-                        };
                         // A closed channel: the assembly failed and says
                         // why; the frames are still worth making.
                         if to_assembly

@@ -205,13 +205,15 @@ struct RowZones {
     /// walk it.
     listed: bool,
     /// The zones listed, each with the first and last ray of the run that
-    /// may meet it (up to a ray more each side), by first ray.
-    near: Vec<(u64, u64, u32)>,
+    /// may meet it (up to a ray more each side) and where the rays enter
+    /// its bounds, by first ray.
+    near: Vec<(u64, u64, u32, f64)>,
     /// How many of `near` the rays so far have reached.
     next: usize,
-    /// The zones near the current ray, and the last ray near each.
+    /// The zones near the current ray in the order the rays enter their
+    /// bounds, each with the last ray near it and that entry.
     zones: Vec<u32>,
-    last: Vec<u64>,
+    last: Vec<(u64, f64)>,
     scratch: Vec<u32>,
 }
 
@@ -233,18 +235,26 @@ impl RowZones {
         if !self.listed {
             return None;
         }
-        while let Some(&(first, last, zone)) = self.near.get(self.next) {
+        while let Some(&(first, last, zone, entry)) = self.near.get(self.next) {
             if first >= rays.end {
                 break;
             }
-            self.zones.push(zone);
-            self.last.push(last);
+            // In the order the rays enter the zones' bounds, the spans
+            // come out nearly in the order of their entries, which their
+            // union sorts them by.
+            let at = self
+                .last
+                .iter()
+                .rposition(|l| l.1 <= entry)
+                .map_or(0, |at| at + 1);
+            self.zones.insert(at, zone);
+            self.last.insert(at, (last, entry));
             self.next += 1;
         }
         // Drop the zones the run has passed.
         let mut kept = 0;
         for at in 0..self.zones.len() {
-            if self.last[at] >= rays.start {
+            if self.last[at].0 >= rays.start {
                 self.zones[kept] = self.zones[at];
                 self.last[kept] = self.last[at];
                 kept += 1;
@@ -264,12 +274,14 @@ impl RowZones {
         self.last.clear();
         self.next = 0;
         let tolerance = model.prepared.tolerance();
+        let along = grid.axis(rays.start);
         for &zone in &self.scratch {
             let bounds = model.prepared.zone_bounds(zone).padded(tolerance);
             let (first, last) = grid.rays_near(rays.clone(), &bounds);
-            self.near.push((first, last, zone));
+            self.near.push((first, last, zone, bounds.min[along]));
         }
-        self.near.sort_unstable();
+        self.near
+            .sort_unstable_by_key(|&(first, last, zone, _)| (first, last, zone));
         self.rays = rays;
     }
 }
@@ -391,17 +403,45 @@ fn gather(
     }
 }
 
-/// A chunk's findings by kind, in the order first met. A chunk meets a
-/// few kinds, the same ones ray after ray: a look at the last one used,
-/// then along the list, beats hashing.
-#[derive(Default)]
+/// A chunk's findings by kind, in the order first met. A ray meets a
+/// kind or two, and a chunk a few dozen, one after another: each kind is
+/// found through a small table by a hash of the kind, and along the list
+/// only when two kinds share a slot.
 pub(crate) struct KindSums {
     sums: Vec<(FindingKind, Acc)>,
-    last: usize,
+    /// Per slot, one more than the index in `sums` of the last kind that
+    /// hashed to it (0: none yet).
+    slots: [u32; KIND_SLOTS],
+}
+
+/// Slots of [`KindSums`]'s table: a power of two.
+const KIND_SLOTS: usize = 256;
+
+impl Default for KindSums {
+    fn default() -> KindSums {
+        KindSums {
+            sums: Vec::new(),
+            slots: [0; KIND_SLOTS],
+        }
+    }
+}
+
+/// The slot of `kind` in [`KindSums`]'s table: the top bits of a
+/// multiplicative hash of its regions.
+fn kind_slot(kind: FindingKind) -> usize {
+    let region = |r: Option<u32>| r.map_or(u64::from(u32::MAX), u64::from);
+    let (tag, a, b) = match kind {
+        FindingKind::Overlap(a, b) => (0, u64::from(a), u64::from(b)),
+        FindingKind::Void(a, b) => (1, region(a), region(b)),
+        FindingKind::Outside(a) => (2, u64::from(a), 0),
+    };
+    let mixed = (a << 32 | b)
+        .wrapping_add(tag)
+        .wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    (mixed >> (64 - KIND_SLOTS.trailing_zeros())) as usize
 }
 
 impl KindSums {
-    /// Add a stretch of kind `kind`.
     /// Add a stretch of kind `kind`, `length` long, on ray `index` standing
     /// for `area`: as [`Acc::merge`] of the stretch alone, its midpoint
     /// worked out only when it is the longest so far.
@@ -411,12 +451,13 @@ impl KindSums {
         (length, area, index): (f64, f64, u64),
         midpoint: impl FnOnce() -> DVec3,
     ) {
-        let at = match self.sums.get(self.last) {
-            Some((k, _)) if *k == kind => Some(self.last),
+        let slot = kind_slot(kind);
+        let at = match self.slots[slot].checked_sub(1) {
+            Some(at) if self.sums[at as usize].0 == kind => Some(at as usize),
             _ => self.sums.iter().position(|(k, _)| *k == kind),
         };
         let Some(at) = at else {
-            self.last = self.sums.len();
+            self.slots[slot] = self.sums.len() as u32 + 1;
             let stretch = Acc {
                 total: length,
                 weighted: length * area,
@@ -428,7 +469,7 @@ impl KindSums {
             self.sums.push((kind, stretch));
             return;
         };
-        self.last = at;
+        self.slots[slot] = at as u32 + 1;
         let sum = &mut self.sums[at].1;
         sum.total += length;
         sum.weighted += length * area;

@@ -50,6 +50,11 @@ impl Grid {
         self.first[3]
     }
 
+    /// The axis grid ray `idx` runs along (in the positive direction).
+    pub(crate) fn axis(&self, idx: u64) -> usize {
+        (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2)
+    }
+
     /// One past the last ray of the row of grid ray `idx`.
     pub(crate) fn row_end(&self, idx: u64) -> u64 {
         let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);

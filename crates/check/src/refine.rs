@@ -96,10 +96,14 @@ struct Piece {
     ends: [(f64, u64); 2],
 }
 
-/// Working memory of a refinement: a bundle's rays, their partitions and
-/// zones.
+/// Working memory of a refinement: the segments to bisect and their
+/// pieces at this halving and the next, a bundle's rays, their partitions
+/// and zones.
 #[derive(Default)]
 pub(crate) struct Bundle {
+    segments: Vec<Segment>,
+    pieces: Vec<Piece>,
+    next: Vec<Piece>,
     rays: Vec<Ray>,
     parts: Vec<Vec<Partition>>,
     zones: Vec<u32>,
@@ -131,55 +135,62 @@ impl Refinement {
         if self.levels == 0 {
             return 0;
         }
-        let (segments, mut pieces, reach) = self.segments(grid, sigs, rays);
-        if segments.is_empty() {
-            return 0;
-        }
-        // The zones any of the rays can meet, listed once for all.
-        let listed = ray_check
-            .prepared()
-            .all_zones_in_box(&reach, &mut bundle.zones);
-        let near = NEAR_CELLS * grid.widest_cell().1;
+        // The lists are the bundle's, kept from chunk to chunk.
+        let mut segments = std::mem::take(&mut bundle.segments);
+        let mut pieces = std::mem::take(&mut bundle.pieces);
+        let mut next = std::mem::take(&mut bundle.next);
+        let reach = self.segments(grid, sigs, rays, &mut segments, &mut pieces);
         let mut fired = 0;
-        for _ in 0..self.levels {
-            let mut next = Vec::new();
-            let mut first = 0;
-            while first < pieces.len() {
-                // The bundle: the pieces after `first` whose rays share a
-                // range and lie near the first's.
-                let lead = &segments[pieces[first].segment as usize];
-                let end = (first..pieces.len())
-                    .take(BUNDLE)
-                    .take_while(|&at| {
-                        let other = &segments[pieces[at].segment as usize];
-                        other.tmax == lead.tmax
-                            && (other.template.origin - lead.template.origin)
-                                .abs()
-                                .max_element()
-                                <= near
-                    })
-                    .last()
-                    .map_or(first + 1, |last| last + 1);
-                let group = &pieces[first..end];
-                let work = (&mut *ray_check, &mut *bundle, tol);
-                fired += self.fire_bundle(&segments, group, listed, work, found, &mut next);
-                first = end;
+        if !segments.is_empty() {
+            // The zones any of the rays can meet, listed once for all.
+            let listed = ray_check
+                .prepared()
+                .all_zones_in_box(&reach, &mut bundle.zones);
+            let near = NEAR_CELLS * grid.widest_cell().1;
+            for _ in 0..self.levels {
+                next.clear();
+                let mut first = 0;
+                while first < pieces.len() {
+                    // The bundle: the pieces after `first` whose rays share
+                    // a range and lie near the first's.
+                    let lead = &segments[pieces[first].segment as usize];
+                    let end = (first..pieces.len())
+                        .take(BUNDLE)
+                        .take_while(|&at| {
+                            let other = &segments[pieces[at].segment as usize];
+                            other.tmax == lead.tmax
+                                && (other.template.origin - lead.template.origin)
+                                    .abs()
+                                    .max_element()
+                                    <= near
+                        })
+                        .last()
+                        .map_or(first + 1, |last| last + 1);
+                    let group = &pieces[first..end];
+                    let work = (&mut *ray_check, &mut *bundle, tol);
+                    fired += self.fire_bundle(&segments, group, listed, work, found, &mut next);
+                    first = end;
+                }
+                std::mem::swap(&mut pieces, &mut next);
             }
-            pieces = next;
         }
+        (bundle.segments, bundle.pieces, bundle.next) = (segments, pieces, next);
         fired
     }
 
     /// The segments between neighbouring grid rays that end at `rays` and
-    /// see different things, a piece for each (the whole segment), and the
-    /// box their rays cross.
+    /// see different things into `segments`, a piece for each (the whole
+    /// segment) into `pieces`; the box their rays cross.
     fn segments(
         &self,
         grid: &Grid,
         sigs: &Signatures,
         rays: Range<u64>,
-    ) -> (Vec<Segment>, Vec<Piece>, Aabb) {
-        let (mut segments, mut pieces) = (Vec::new(), Vec::new());
+        segments: &mut Vec<Segment>,
+        pieces: &mut Vec<Piece>,
+    ) -> Aabb {
+        segments.clear();
+        pieces.clear();
         let mut reach = Aabb::EMPTY;
         for (index, before_pair) in grid.neighbours_before(rays) {
             let Some(sig) = sigs.get(index) else { continue };
@@ -205,7 +216,7 @@ impl Refinement {
                 });
             }
         }
-        (segments, pieces, reach)
+        reach
     }
 
     /// Fire the midpoints of `pieces` together (through the zones of

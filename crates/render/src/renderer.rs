@@ -465,8 +465,20 @@ impl Renderer {
             let tw = x1 - x0;
             for row in 0..rows {
                 let start = row * w + x0;
-                rgb[start..start + tw].copy_from_slice(&plan.bg_row[..tw]);
-                alpha[start..start + tw].fill(0.0);
+                if tw == TILE {
+                    // A whole tile's row, of a size known here: written
+                    // with a few vector stores instead of two library calls
+                    // for every row of every tile.
+                    let (rgb_row, alpha_row) = (
+                        &mut rgb[start..start + TILE],
+                        &mut alpha[start..start + TILE],
+                    );
+                    rgb_row.copy_from_slice(&plan.bg_row);
+                    alpha_row.copy_from_slice(&[0.0; TILE]);
+                } else {
+                    rgb[start..start + tw].copy_from_slice(&plan.bg_row[..tw]);
+                    alpha[start..start + tw].fill(0.0);
+                }
             }
             // rt's shading with one ray a pixel fills whole bands instead.
             debug_assert!(self.shading != Shading::RtEyeLight, "see fill_band_rt");

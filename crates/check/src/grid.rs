@@ -57,7 +57,7 @@ impl Grid {
 
     /// One past the last ray of the row of grid ray `idx`.
     pub(crate) fn row_end(&self, idx: u64) -> u64 {
-        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+        let k = self.axis(idx);
         let row = self.n[k].0;
         self.first[k] + ((idx - self.first[k]) / row + 1) * row
     }
@@ -66,9 +66,7 @@ impl Grid {
     /// may meet `bounds`: a ray more each side than those that pass
     /// within them, so that rounding does not leave one out.
     pub(crate) fn rays_near(&self, rays: Range<u64>, bounds: &Aabb) -> (u64, u64) {
-        let k = (0..3)
-            .find(|&k| rays.start < self.first[k + 1])
-            .unwrap_or(2);
+        let k = self.axis(rays.start);
         let u = (k + 1) % 3;
         let row_start = rays.start - (rays.start - self.first[k]) % self.n[k].0;
         // Ray i of the row passes at lo[u] + (i + FRAC_U) * cell.
@@ -99,7 +97,7 @@ impl Grid {
         let start = rays.start;
         rays.map(move |idx| {
             if idx == start || idx == self.first[k + 1] {
-                k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+                k = self.axis(idx);
                 let local = idx - self.first[k];
                 (i, j) = (local % self.n[k].0, local / self.n[k].0);
             }
@@ -143,7 +141,7 @@ impl Grid {
 
     /// Ray `idx` of the grid, its t range and the area it stands for.
     pub(crate) fn ray(&self, idx: u64) -> (Ray, f64, f64) {
-        let k = (0..3).find(|&k| idx < self.first[k + 1]).unwrap_or(2);
+        let k = self.axis(idx);
         let local = idx - self.first[k];
         let (i, j) = (local % self.n[k].0, local / self.n[k].0);
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
@@ -164,9 +162,7 @@ impl Grid {
     /// [`Grid::ray`] makes it; their t range and the area each stands for.
     pub(crate) fn run_rays(&self, rays: Range<u64>, out: &mut Vec<Ray>) -> (f64, f64) {
         let (first, t1, area) = self.ray(rays.start);
-        let k = (0..3)
-            .find(|&k| rays.start < self.first[k + 1])
-            .unwrap_or(2);
+        let k = self.axis(rays.start);
         let u = (k + 1) % 3;
         let i = (rays.start - self.first[k]) % self.n[k].0;
         out.clear();

@@ -292,8 +292,11 @@ pub(crate) fn prepare_raw(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
     polyhedron_from_points(b, &corners, warnings, false)
 }
 
-/// ARB4 … ARB8: the convex hull of the vertices (an ARB8's faces are
-/// checked for planarity and a warning names each one that is not).
+/// ARB4 … ARB8: the convex hull of the vertices. An ARB8's faces are
+/// checked for planarity; when one is not flat, a warning names it and the
+/// solid is bounded by each face's plane as BRL-CAD makes it (see
+/// [`ARB_FACE_ORDER`]), so that pictures and checks agree with rt's and
+/// gqa's.
 pub(crate) fn prepare_arb(b: &Body, warnings: &mut Vec<Warning>) -> Prepared {
     let corners = arb_points(b);
     polyhedron_from_points(b, &corners, warnings, b.kind == BodyKind::Arb8)
@@ -376,6 +379,18 @@ const ARB_FACES: [[usize; 4]; 6] = [
     [4, 3, 7, 8],
 ];
 
+/// The same six faces, each with its corners in the order BRL-CAD's librt
+/// takes them (`rt_arb_info`): a face's plane is that of its first three
+/// distinct corners that are not in line, whatever the fourth.
+const ARB_FACE_ORDER: [[usize; 4]; 6] = [
+    [4, 3, 2, 1],
+    [5, 6, 7, 8],
+    [5, 8, 4, 1],
+    [3, 7, 6, 2],
+    [2, 6, 5, 1],
+    [8, 7, 3, 4],
+];
+
 fn polyhedron_from_points(
     b: &Body,
     pts: &[DVec3],
@@ -389,30 +404,27 @@ fn polyhedron_from_points(
     }
     let eps = 1e-9 * size;
     if check_faces {
-        for f in ARB_FACES {
-            let v: Vec<DVec3> = f.iter().map(|&i| pts[i - 1]).collect();
-            let mut distinct: Vec<DVec3> = Vec::new();
-            for p in &v {
-                if !distinct.iter().any(|q| (*q - *p).length() <= eps) {
-                    distinct.push(*p);
-                }
+        let faces = arb_face_planes(pts, eps);
+        let mut flat = true;
+        for (face, plane) in ARB_FACES.iter().zip(&faces) {
+            let Some(FacePlane { corners, off, .. }) = plane else {
+                continue;
+            };
+            if let Some((vertex, off)) = off.filter(|&(_, off)| off > 1e-6 * size) {
+                flat = false;
+                let [a, b3, c] = corners;
+                warnings.push(Warning {
+                    body: b.name.clone(),
+                    kind: b.kind,
+                    message: format!(
+                        "face {}{}{}{} is not planar (vertex {vertex} is {off:.4} off the plane of vertices {a}, {b3} and {c}); using that plane, as BRL-CAD does",
+                        face[0], face[1], face[2], face[3]
+                    ),
+                });
             }
-            if distinct.len() == 4 {
-                let n = (distinct[1] - distinct[0]).cross(distinct[2] - distinct[0]);
-                if n.length() > 0.0 {
-                    let off = (distinct[3] - distinct[0]).dot(n.normalize()).abs();
-                    if off > 1e-6 * size {
-                        warnings.push(Warning {
-                            body: b.name.clone(),
-                            kind: b.kind,
-                            message: format!(
-                                "face {}{}{}{} is not planar (a vertex is {:.4} off the plane of the other three); using the convex hull of the vertices",
-                                f[0], f[1], f[2], f[3], off
-                            ),
-                        });
-                    }
-                }
-            }
+        }
+        if !flat {
+            return polyhedron_from_face_planes(pts, &faces, eps);
         }
     }
     let h = convex_hull_planes(pts, eps);
@@ -423,6 +435,133 @@ fn polyhedron_from_points(
         super::Shape::Polyhedron(Polyhedron::new(h.planes, bounds)),
         bounds,
     ))
+}
+
+/// The plane of one of an ARB8's faces as librt makes it: through
+/// `corners` (vertex numbers, 1-based), facing away from the mean of the
+/// eight vertices, and how far the face's other distinct vertex lies off
+/// it, if it has one.
+struct FacePlane {
+    plane: Plane,
+    corners: [usize; 3],
+    off: Option<(usize, f64)>,
+}
+
+/// Each face's [`FacePlane`] in the order of [`ARB_FACES`]; `None` for a
+/// face with fewer than three distinct corners out of line (librt drops
+/// such a face). Corners within `eps` of one another count as one.
+fn arb_face_planes(pts: &[DVec3], eps: f64) -> Vec<Option<FacePlane>> {
+    let centre = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+    ARB_FACE_ORDER
+        .iter()
+        .map(|order| {
+            let mut chosen: Vec<usize> = Vec::new();
+            let mut rest: Vec<usize> = Vec::new();
+            for &v in order {
+                let p = pts[v - 1];
+                let same = |&w: &usize| (pts[w - 1] - p).length() <= eps;
+                if chosen.iter().any(same) || rest.iter().any(same) {
+                    continue;
+                }
+                let in_line = chosen.len() == 2 && {
+                    let (a, b) = (pts[chosen[0] - 1], pts[chosen[1] - 1]);
+                    (p - a).cross((b - a).normalize()).length() <= eps
+                };
+                if chosen.len() < 3 && !in_line {
+                    chosen.push(v);
+                } else {
+                    rest.push(v);
+                }
+            }
+            let [a, b, c] = <[usize; 3]>::try_from(chosen).ok()?;
+            let (pa, pb, pc) = (pts[a - 1], pts[b - 1], pts[c - 1]);
+            let mut n = (pc - pa).cross(pb - pa).normalize();
+            if (pa - centre).dot(n) < 0.0 {
+                n = -n;
+            }
+            let plane = Plane { n, d: n.dot(pa) };
+            let off = rest
+                .first()
+                .map(|&v| (v, (plane.n.dot(pts[v - 1]) - plane.d).abs()));
+            Some(FacePlane {
+                plane,
+                corners: [a, b, c],
+                off,
+            })
+        })
+        .collect()
+}
+
+/// The solid bounded by the planes of `faces` (librt's ARB8 when a face is
+/// not flat), cut to the box of the vertices `pts`: librt finds the body
+/// only along rays that meet that box, and no more than a bent corner's
+/// sliver reaches past it.
+fn polyhedron_from_face_planes(
+    pts: &[DVec3],
+    faces: &[Option<FacePlane>],
+    eps: f64,
+) -> Result<(super::Shape, Aabb), String> {
+    let mut planes: Vec<Plane> = faces.iter().flatten().map(|f| f.plane).collect();
+    if planes.len() < 4 {
+        return Err(format!(
+            "only {} faces have three distinct corners out of line",
+            planes.len()
+        ));
+    }
+    let vertex_box = Aabb::from_points(pts.iter().copied());
+    // Corners met by nearly parallel planes carry more rounding than the
+    // vertices' own tolerance.
+    let corner_eps = 1e3 * eps;
+    let corners = plane_corners(&planes, corner_eps);
+    let reach = Aabb::from_points(corners.iter().copied());
+    for axis in 0..3 {
+        let mut n = DVec3::ZERO;
+        n[axis] = 1.0;
+        if reach.max[axis] > vertex_box.max[axis] + eps {
+            planes.push(Plane {
+                n,
+                d: vertex_box.max[axis],
+            });
+        }
+        if reach.min[axis] < vertex_box.min[axis] - eps {
+            planes.push(Plane {
+                n: -n,
+                d: -vertex_box.min[axis],
+            });
+        }
+    }
+    let corners = plane_corners(&planes, corner_eps);
+    let size = vertex_box.diagonal();
+    if corners.len() < 4 || convex_hull_planes(&corners, eps).volume <= 1e-12 * size * size * size {
+        return Err("the planes of the faces enclose no volume".into());
+    }
+    let bounds = Aabb::from_points(corners.iter().copied());
+    Ok((
+        super::Shape::Polyhedron(Polyhedron::new(planes, bounds)),
+        bounds,
+    ))
+}
+
+/// The points where three of `planes` meet inside all the others (within
+/// `eps`): the corners of the solid they bound.
+fn plane_corners(planes: &[Plane], eps: f64) -> Vec<DVec3> {
+    let mut corners = Vec::new();
+    for i in 0..planes.len() {
+        for j in i + 1..planes.len() {
+            for k in j + 1..planes.len() {
+                let (p, q, r) = (planes[i], planes[j], planes[k]);
+                let det = p.n.dot(q.n.cross(r.n));
+                if det.abs() <= 1e-12 {
+                    continue;
+                }
+                let x = (q.n.cross(r.n) * p.d + r.n.cross(p.n) * q.d + p.n.cross(q.n) * r.d) / det;
+                if planes.iter().all(|pl| pl.n.dot(x) - pl.d <= eps) {
+                    corners.push(x);
+                }
+            }
+        }
+    }
+    corners
 }
 
 fn half_space(n: DVec3, d: f64) -> Result<(super::Shape, Aabb), String> {

@@ -79,7 +79,7 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
     let text = warnings[0].to_string();
     assert_eq!(
         text,
-        "ARB8 `10`: face 2376 is not planar (a vertex is 0.2000 off the plane of the other three); using the convex hull of the vertices"
+        "ARB8 `10`: face 2376 is not planar (vertex 2 is 0.2000 off the plane of vertices 3, 7 and 6); using that plane, as BRL-CAD does"
     );
     assert_eq!(
         warnings.len(),
@@ -89,4 +89,31 @@ fn non_planar_arb8_warns_naming_the_face_and_still_renders() {
     let r = Ray::new(DVec3::new(-216.0, -167.0, 100.0), -DVec3::Z);
     let mut s = sv_trace::Scratch::new(&prep);
     assert!(prep.first_hit(&r, 0.0, f64::INFINITY, &mut s).is_some());
+
+    // Beside the bent vertex 7 the face is the plane of vertices 3, 7 and
+    // 6, as librt makes it, not the convex hull of the vertices (which
+    // would reach out to y = -182.8807 up to the top, z = 30.4801): a ray
+    // down at x = -203, y = -182.75 enters the body where it crosses that
+    // plane, below the top.
+    let v = |i: usize| DVec3::new(p[3 * i - 3], p[3 * i - 2], p[3 * i - 1]);
+    let (a, b, c) = (v(3), v(7), v(6));
+    let normal = (c - a).cross(b - a);
+    let (x, y) = (-203.0, -182.75);
+    let z = a.z - (normal.x * (x - a.x) + normal.y * (y - a.y)) / normal.z;
+    assert!(z > 0.0 && z < 30.0, "the plane crosses the ray at z = {z}");
+    let down = Ray::new(DVec3::new(x, y, 100.0), -DVec3::Z);
+    let hit = prep
+        .first_hit(&down, 0.0, f64::INFINITY, &mut s)
+        .expect("the ray meets the body");
+    assert!(
+        (hit.t - (100.0 - z)).abs() < 1e-9,
+        "entered at z = {}, the plane is at z = {z}",
+        100.0 - hit.t
+    );
+    // Past vertex 2 the plane leaves the vertices' box, to which the body
+    // is cut, as librt finds it only along rays that meet that box.
+    let outside = Ray::new(DVec3::new(-230.0, -182.95, 100.0), -DVec3::Z);
+    assert!(prep
+        .first_hit(&outside, 0.0, f64::INFINITY, &mut s)
+        .is_none());
 }

@@ -508,29 +508,25 @@ fn polyhedron_from_face_planes(
             planes.len()
         ));
     }
+    // The box's sides that do not cut the solid only repeat what the faces
+    // say, and lose ties to them; with all six it stays bounded whatever
+    // the face planes do.
     let vertex_box = Aabb::from_points(pts.iter().copied());
-    // Corners met by nearly parallel planes carry more rounding than the
-    // vertices' own tolerance.
-    let corner_eps = 1e3 * eps;
-    let corners = plane_corners(&planes, corner_eps);
-    let reach = Aabb::from_points(corners.iter().copied());
     for axis in 0..3 {
         let mut n = DVec3::ZERO;
         n[axis] = 1.0;
-        if reach.max[axis] > vertex_box.max[axis] + eps {
-            planes.push(Plane {
-                n,
-                d: vertex_box.max[axis],
-            });
-        }
-        if reach.min[axis] < vertex_box.min[axis] - eps {
-            planes.push(Plane {
-                n: -n,
-                d: -vertex_box.min[axis],
-            });
-        }
+        planes.push(Plane {
+            n,
+            d: vertex_box.max[axis],
+        });
+        planes.push(Plane {
+            n: -n,
+            d: -vertex_box.min[axis],
+        });
     }
-    let corners = plane_corners(&planes, corner_eps);
+    // Corners met by nearly parallel planes carry more rounding than the
+    // vertices' own tolerance.
+    let corners = plane_corners(&planes, 1e3 * eps);
     let size = vertex_box.diagonal();
     if corners.len() < 4 || convex_hull_planes(&corners, eps).volume <= 1e-12 * size * size * size {
         return Err("the planes of the faces enclose no volume".into());

@@ -508,25 +508,38 @@ fn polyhedron_from_face_planes(
             planes.len()
         ));
     }
-    // The box's sides that do not cut the solid only repeat what the faces
-    // say, and lose ties to them; with all six it stays bounded whatever
-    // the face planes do.
+    // Cut by the box's sides the face planes reach past, or by all six
+    // when the planes alone leave the solid open (their normals do not
+    // surround the origin); the other sides would only repeat the faces.
     let vertex_box = Aabb::from_points(pts.iter().copied());
+    let normals: Vec<DVec3> = planes.iter().map(|p| p.n).collect();
+    let around = convex_hull_planes(&normals, 1e-12);
+    let closed = around.volume > 1e-12 && around.planes.iter().all(|p| p.d > 1e-9);
+    // Corners met by nearly parallel planes carry more rounding than the
+    // vertices' own tolerance.
+    let corner_eps = 1e3 * eps;
+    let reach = if closed {
+        Aabb::from_points(plane_corners(&planes, corner_eps))
+    } else {
+        Aabb::INFINITE
+    };
     for axis in 0..3 {
         let mut n = DVec3::ZERO;
         n[axis] = 1.0;
-        planes.push(Plane {
-            n,
-            d: vertex_box.max[axis],
-        });
-        planes.push(Plane {
-            n: -n,
-            d: -vertex_box.min[axis],
-        });
+        if reach.max[axis] > vertex_box.max[axis] + eps {
+            planes.push(Plane {
+                n,
+                d: vertex_box.max[axis],
+            });
+        }
+        if reach.min[axis] < vertex_box.min[axis] - eps {
+            planes.push(Plane {
+                n: -n,
+                d: -vertex_box.min[axis],
+            });
+        }
     }
-    // Corners met by nearly parallel planes carry more rounding than the
-    // vertices' own tolerance.
-    let corners = plane_corners(&planes, 1e3 * eps);
+    let corners = plane_corners(&planes, corner_eps);
     let size = vertex_box.diagonal();
     if corners.len() < 4 || convex_hull_planes(&corners, eps).volume <= 1e-12 * size * size * size {
         return Err("the planes of the faces enclose no volume".into());

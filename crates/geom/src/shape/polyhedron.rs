@@ -117,24 +117,7 @@ impl Polyhedron {
             return None;
         }
         let p = &self.planes;
-        let mut out = Vec::new();
-        for i in 0..n {
-            for j in i + 1..n {
-                for k in j + 1..n {
-                    // Cramer's rule on n_i·x = d_i, n_j·x = d_j, n_k·x = d_k.
-                    let (a, b, c) = (p[i].n, p[j].n, p[k].n);
-                    let bc = b.cross(c);
-                    let det = a.dot(bc);
-                    if det.abs() < 1e-9 {
-                        continue;
-                    }
-                    let x = (bc * p[i].d + c.cross(a) * p[j].d + a.cross(b) * p[k].d) / det;
-                    if x.is_finite() && p.iter().all(|q| q.n.dot(x) <= q.d + eps) {
-                        out.push(x);
-                    }
-                }
-            }
-        }
+        let out = plane_corners(p, eps);
         // Checks that no corner was lost to a badly conditioned triple:
         // the corners reach the bounds (made from the vertices) on every
         // side, and every face has at least three of them.
@@ -552,25 +535,29 @@ fn polyhedron_from_face_planes(
 }
 
 /// The points where three of `planes` meet inside all the others (within
-/// `eps`): the corners of the solid they bound.
-fn plane_corners(planes: &[Plane], eps: f64) -> Vec<DVec3> {
-    let mut corners = Vec::new();
-    for i in 0..planes.len() {
-        for j in i + 1..planes.len() {
-            for k in j + 1..planes.len() {
-                let (p, q, r) = (planes[i], planes[j], planes[k]);
-                let det = p.n.dot(q.n.cross(r.n));
-                if det.abs() <= 1e-12 {
+/// `eps`, so that rounding can only add points): the corners of the solid
+/// they bound, when it is bounded.
+fn plane_corners(p: &[Plane], eps: f64) -> Vec<DVec3> {
+    let n = p.len();
+    let mut out = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                // Cramer's rule on n_i·x = d_i, n_j·x = d_j, n_k·x = d_k.
+                let (a, b, c) = (p[i].n, p[j].n, p[k].n);
+                let bc = b.cross(c);
+                let det = a.dot(bc);
+                if det.abs() < 1e-9 {
                     continue;
                 }
-                let x = (q.n.cross(r.n) * p.d + r.n.cross(p.n) * q.d + p.n.cross(q.n) * r.d) / det;
-                if planes.iter().all(|pl| pl.n.dot(x) - pl.d <= eps) {
-                    corners.push(x);
+                let x = (bc * p[i].d + c.cross(a) * p[j].d + a.cross(b) * p[k].d) / det;
+                if x.is_finite() && p.iter().all(|q| q.n.dot(x) <= q.d + eps) {
+                    out.push(x);
                 }
             }
         }
     }
-    corners
+    out
 }
 
 fn half_space(n: DVec3, d: f64) -> Result<(super::Shape, Aabb), String> {
@@ -632,5 +619,42 @@ mod tests {
             Aabb::new(DVec3::splat(f64::NEG_INFINITY), DVec3::splat(f64::INFINITY)),
         );
         assert!(half.corners(1e-9).is_none());
+    }
+
+    #[test]
+    fn bent_arb8_planes_that_leave_it_open_are_closed_by_the_corners_box() {
+        // Four side planes whose normals all lie in z = 0 bound no solid;
+        // the corners' box closes it at z = 0 and z = 5.
+        let pts: Vec<DVec3> = (0..8)
+            .map(|i| {
+                let (x, y) = ([-1.0, 1.0][i & 1], [-1.0, 1.0][(i >> 1) & 1]);
+                DVec3::new(x, y, 5.0 * (i >> 2) as f64)
+            })
+            .collect();
+        let side = |n: DVec3| {
+            Some(FacePlane {
+                plane: Plane { n, d: 1.0 },
+                corners: [1, 2, 3],
+                off: None,
+            })
+        };
+        let faces = [
+            side(DVec3::X),
+            side(-DVec3::X),
+            side(DVec3::Y),
+            side(-DVec3::Y),
+        ];
+        let (shape, bounds) = polyhedron_from_face_planes(&pts, &faces, 1e-9).unwrap();
+        assert_eq!(
+            bounds,
+            Aabb::new(DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, 1.0, 5.0))
+        );
+        let super::super::Shape::Polyhedron(solid) = shape else {
+            panic!("a polyhedron");
+        };
+        let mut segs = Vec::new();
+        solid.shoot(&Ray::new(DVec3::new(0.0, 0.0, -10.0), DVec3::Z), &mut segs);
+        assert_eq!(segs.len(), 1);
+        assert_eq!((segs[0].t0, segs[0].t1), (10.0, 15.0));
     }
 }

@@ -147,12 +147,14 @@ impl Refinement {
             // grid row's, see `fire::RowZones`).
             let prepared = ray_check.prepared();
             let listed = prepared.all_zones_in_box(&reach, &mut bundle.zones);
-            let dir = segments[0].template.dir;
-            let along = (0..3).find(|&k| dir[k] != 0.0).unwrap_or(0);
-            bundle.zones.sort_by(|&a, &b| {
-                let entry = |z| prepared.zone_bounds(z).min[along];
-                entry(a).total_cmp(&entry(b))
-            });
+            if listed {
+                let dir = segments[0].template.dir;
+                let along = (0..3).find(|&k| dir[k] != 0.0).unwrap_or(0);
+                bundle.zones.sort_by(|&a, &b| {
+                    let entry = |z| prepared.zone_bounds(z).min[along];
+                    entry(a).total_cmp(&entry(b))
+                });
+            }
             let near = NEAR_CELLS * grid.widest_cell().1;
             for _ in 0..self.levels {
                 next.clear();

@@ -395,12 +395,12 @@ fn polyhedron_from_points(
             };
             if let Some((vertex, off)) = off.filter(|&(_, off)| off > 1e-6 * size) {
                 flat = false;
-                let [a, b3, c] = corners;
+                let [first, second, third] = corners;
                 warnings.push(Warning {
                     body: b.name.clone(),
                     kind: b.kind,
                     message: format!(
-                        "face {}{}{}{} is not planar (vertex {vertex} is {off:.4} off the plane of vertices {a}, {b3} and {c}); using that plane, as BRL-CAD does",
+                        "face {}{}{}{} is not planar (vertex {vertex} is {off:.4} off the plane of vertices {first}, {second} and {third}); using that plane, as BRL-CAD does",
                         face[0], face[1], face[2], face[3]
                     ),
                 });

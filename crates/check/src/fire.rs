@@ -115,21 +115,31 @@ pub(crate) fn fire_chunks(
     let mut refined = 0;
     for first in chunks.clone().step_by(BATCH as usize) {
         let batch = first..(first + BATCH).min(chunks.end);
-        let fired: Vec<(KindSums, Vec<u64>)> = batch
-            .clone()
+        // Each chunk's signatures go straight to their place, after those
+        // held from before.
+        let held = sigs.sigs.len();
+        let batch_grid_rays = if refining {
+            let total = grid.total();
+            (batch.end * CHUNK).min(total) - (batch.start * CHUNK).min(total)
+        } else {
+            0
+        };
+        sigs.sigs.resize(held + batch_grid_rays as usize, 0);
+        let mut slots: Vec<&mut [u64]> = sigs.sigs[held..].chunks_mut(CHUNK as usize).collect();
+        slots.resize_with((batch.end - batch.start) as usize, Default::default);
+        let mut sums: Vec<KindSums> = slots
             .into_par_iter()
+            .enumerate()
             .map_init(
                 || Worker::new(model),
-                |worker, chunk| fire_chunk(model, plan, opts, worker, chunk, &seen),
+                |worker, (at, chunk_sigs)| {
+                    let chunk = batch.start + at as u64;
+                    fire_chunk(model, plan, opts, worker, (chunk, chunk_sigs), &seen)
+                },
             )
             .collect();
-        let mut sums = Vec::with_capacity(fired.len());
-        for (chunk_sums, chunk_sigs) in fired {
-            sigs.sigs.extend(chunk_sigs);
-            sums.push(chunk_sums);
-        }
         let done: Vec<(ChunkFindings, u64)> = sums
-            .into_par_iter()
+            .par_iter_mut()
             .enumerate()
             .map_init(
                 || (RayCheck::new(model), Bundle::default()),
@@ -176,7 +186,7 @@ fn refine_chunk(
     (ray_check, bundle): (&mut RayCheck, &mut Bundle),
     chunk: u64,
     sigs: &Signatures,
-    mut sums: KindSums,
+    sums: &mut KindSums,
     seen: &[AtomicBool],
 ) -> (ChunkFindings, u64) {
     let rays = chunk * CHUNK..((chunk + 1) * CHUNK).min(plan.grid.total());
@@ -187,7 +197,7 @@ fn refine_chunk(
             sigs,
             rays,
             (ray_check, bundle, plan.tolerance),
-            &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, &mut sums, seen),
+            &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, sums, seen),
         );
     }
     (sums.sorted(), fired)
@@ -309,29 +319,31 @@ impl<'a> Worker<'a> {
     }
 }
 
-/// Fire the rays of chunk `chunk`: its findings by kind, and the
-/// signatures of its grid rays when the check refines; the regions its
-/// rays meet are marked in `seen`. The findings are summed ray by ray in
-/// the order of the rays.
+/// Fire the rays of chunk `chunk`: its findings by kind; when the check
+/// refines, the signatures of its grid rays go to `sigs`, one place for
+/// each. The regions its rays meet are marked in `seen`. The findings are
+/// summed ray by ray in the order of the rays.
 fn fire_chunk(
     model: &Model,
     plan: &Plan,
     opts: &CheckOptions,
     worker: &mut Worker,
-    chunk: u64,
+    (chunk, sigs): (u64, &mut [u64]),
     seen: &[AtomicBool],
-) -> (KindSums, Vec<u64>) {
+) -> KindSums {
     let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
     let end = ((chunk + 1) * CHUNK).min(grid_rays + opts.random);
     let mut sums = KindSums::default();
-    let mut sigs = Vec::new();
     let refining = plan.refinement.levels > 0;
     let rays = chunk * CHUNK..end.min(grid_rays);
+    let mut sig_slots = sigs.iter_mut();
     fire_grid_rays(model, plan, worker, rays, |ray_check, ray, at, area| {
         gather(ray_check, ray, at, area, &mut sums, seen);
         if refining {
-            sigs.push(signature(&ray_check.parts, tolerance));
+            if let Some(slot) = sig_slots.next() {
+                *slot = signature(&ray_check.parts, tolerance);
+            }
         }
     });
     let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
@@ -344,7 +356,7 @@ fn fire_chunk(
             gather(ray_check, &ray, at, 0.0, &mut sums, seen);
         }
     }
-    (sums, sigs)
+    sums
 }
 
 /// Fire the grid rays `rays` in packets along their rows, handing each,
@@ -358,23 +370,24 @@ fn fire_grid_rays(
     mut each: impl FnMut(&RayCheck, &Ray, u64, f64),
 ) {
     let grid = &plan.grid;
-    let mut index = rays.start;
-    while index < rays.end {
-        let packet = index..(index + PACKET).min(grid.row_end(index)).min(rays.end);
-        let (t1, area) = grid.run_rays(packet.clone(), &mut worker.rays);
-        let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
-        let Worker {
-            ray_check,
-            rays,
-            parts,
-            ..
-        } = worker;
-        ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
-        for (at, (ray, ray_parts)) in packet.clone().zip(rays.iter().zip(parts.iter_mut())) {
-            ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);
-            each(ray_check, ray, at, area);
+    for run in grid.row_runs(rays.clone()) {
+        let (first, t1, area) = grid.ray(run.rays.start);
+        for start in run.rays.clone().step_by(PACKET as usize) {
+            let packet = start..(start + PACKET).min(run.rays.end);
+            grid.run_rays(&run, &first, packet.clone(), &mut worker.rays);
+            let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
+            let Worker {
+                ray_check,
+                rays,
+                parts,
+                ..
+            } = worker;
+            ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
+            for (at, (ray, ray_parts)) in packet.zip(rays.iter().zip(parts.iter_mut())) {
+                ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);
+                each(ray_check, ray, at, area);
+            }
         }
-        index = packet.end;
     }
 }
 

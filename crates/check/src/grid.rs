@@ -4,6 +4,23 @@ use crate::rng::uniform;
 use std::ops::Range;
 use sv_math::{Aabb, DVec3, Ray};
 
+/// A run of grid rays within one row, and their neighbours before them:
+/// along the row, the ray before (from the row's second ray on), and
+/// across it, the ray in the same place of the row before.
+pub(crate) struct RowRun {
+    pub rays: Range<u64>,
+    /// The axis the rays run along.
+    pub axis: usize,
+    /// The first ray of the row.
+    pub row_start: u64,
+    /// How many rays before each lies its neighbour across the row; `None`
+    /// in the first row.
+    pub across: Option<u64>,
+    /// The axes along which a ray lies apart from its neighbour along the
+    /// row, and from its neighbour across it.
+    pub axes: (usize, usize),
+}
+
 /// The grid of one check: per axis, counts and cell sizes.
 pub(crate) struct Grid {
     lo: DVec3,
@@ -85,33 +102,27 @@ impl Grid {
         (first.max(rays.start), last.min(rays.end - 1))
     }
 
-    /// For each of grid rays `rays`, the rays before it along its row and
-    /// across it (the same place in the row before), each with the axis
-    /// along which the two lie apart; `None` at the start of a row, or in
-    /// the first row. Counted along, without a division per ray.
-    pub(crate) fn neighbours_before(
-        &self,
-        rays: Range<u64>,
-    ) -> impl Iterator<Item = (u64, [Option<(u64, usize)>; 2])> + '_ {
-        let (mut k, mut i, mut j) = (0, 0, 0);
-        let start = rays.start;
-        rays.map(move |idx| {
-            if idx == start || idx == self.first[k + 1] {
-                k = self.axis(idx);
-                let local = idx - self.first[k];
-                (i, j) = (local % self.n[k].0, local / self.n[k].0);
+    /// Grid rays `rays` split where rows end, each piece with what its
+    /// neighbours before it are (see [`RowRun`]).
+    pub(crate) fn row_runs(&self, rays: Range<u64>) -> impl Iterator<Item = RowRun> + '_ {
+        let mut start = rays.start;
+        std::iter::from_fn(move || {
+            if start >= rays.end {
+                return None;
             }
+            let k = self.axis(start);
             let row = self.n[k].0;
-            let (u, v) = ((k + 1) % 3, (k + 2) % 3);
-            let pair = [
-                (i > 0).then(|| (idx - 1, u)),
-                (j > 0).then(|| (idx - row, v)),
-            ];
-            i += 1;
-            if i == row {
-                (i, j) = (0, j + 1);
-            }
-            (idx, pair)
+            let local = start - self.first[k];
+            let row_start = start - local % row;
+            let run = start..(row_start + row).min(rays.end);
+            start = run.end;
+            Some(RowRun {
+                rays: run,
+                axis: k,
+                row_start,
+                across: (local >= row).then_some(row),
+                axes: ((k + 1) % 3, (k + 2) % 3),
+            })
         })
     }
 
@@ -158,21 +169,24 @@ impl Grid {
         )
     }
 
-    /// Grid rays `rays` (one run along a row) into `out`, each exactly as
-    /// [`Grid::ray`] makes it; their t range and the area each stands for.
-    pub(crate) fn run_rays(&self, rays: Range<u64>, out: &mut Vec<Ray>) -> (f64, f64) {
-        let (first, t1, area) = self.ray(rays.start);
-        let k = self.axis(rays.start);
-        let u = (k + 1) % 3;
-        let i = (rays.start - self.first[k]) % self.n[k].0;
+    /// Grid rays `packet` of run `run` into `out`, each exactly as
+    /// [`Grid::ray`] makes it, from `first`, the run's first ray: they
+    /// differ from it only along the row.
+    pub(crate) fn run_rays(
+        &self,
+        run: &RowRun,
+        first: &Ray,
+        packet: Range<u64>,
+        out: &mut Vec<Ray>,
+    ) {
+        let (k, u) = (run.axis, run.axes.0);
         out.clear();
-        out.push(first);
-        for next in i + 1..i + (rays.end - rays.start) {
-            let mut ray = first;
-            ray.origin[u] = self.lo[u] + (next as f64 + FRAC_U) * self.cell[k].0;
-            out.push(ray);
-        }
-        (t1, area)
+        out.extend(packet.map(|index| {
+            let mut ray = *first;
+            let i = index - run.row_start;
+            ray.origin[u] = self.lo[u] + (i as f64 + FRAC_U) * self.cell[k].0;
+            ray
+        }));
     }
 }
 

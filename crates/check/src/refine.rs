@@ -53,10 +53,11 @@ pub(crate) struct Signatures {
 }
 
 impl Signatures {
-    /// The signature of grid ray `index`, if held.
-    pub fn get(&self, index: u64) -> Option<u64> {
-        let at = index.checked_sub(self.first)?;
-        self.sigs.get(usize::try_from(at).ok()?).copied()
+    /// The signatures of rays `rays`, if all are held.
+    pub fn window(&self, rays: Range<u64>) -> Option<&[u64]> {
+        let start = usize::try_from(rays.start.checked_sub(self.first)?).ok()?;
+        let end = usize::try_from(rays.end.checked_sub(self.first)?).ok()?;
+        self.sigs.get(start..end)
     }
 
     /// Keep only the signatures from ray `from` on.
@@ -201,28 +202,52 @@ impl Refinement {
         segments.clear();
         pieces.clear();
         let mut reach = Aabb::EMPTY;
-        for (index, before_pair) in grid.neighbours_before(rays) {
-            let Some(sig) = sigs.get(index) else { continue };
-            for (side, before) in before_pair.into_iter().enumerate() {
-                let Some((before, w)) = before else { continue };
-                let other = match sigs.get(before) {
-                    Some(other) if other != sig => other,
-                    _ => continue,
-                };
-                let (ray, tmax, _) = grid.ray(index);
-                let (from, _, _) = grid.ray(before);
-                reach = reach.including(from.origin).including(ray.at(tmax));
-                pieces.push(Piece {
-                    segment: segments.len() as u32,
-                    node: 1,
-                    ends: [(from.origin[w], other), (ray.origin[w], sig)],
-                });
-                segments.push(Segment {
-                    w,
-                    template: ray,
-                    tmax,
-                    id: self.first_index + ((2 * index + side as u64) << self.levels),
-                });
+        for run in grid.row_runs(rays) {
+            // The run's signatures, after those of the neighbours before
+            // it: most rays see what both neighbours see, so the scan
+            // compares neighbouring signatures and stops only where they
+            // differ.
+            let along_before = u64::from(run.rays.start > run.row_start);
+            let back = run.across.unwrap_or(along_before);
+            let Some(held) = sigs.window(run.rays.start - back..run.rays.end) else {
+                continue;
+            };
+            let back = back as usize;
+            for (offset, &sig) in held[back..].iter().enumerate() {
+                let index = run.rays.start + offset as u64;
+                let along = (index > run.row_start).then(|| held[back + offset - 1]);
+                let across = run.across.map(|_| held[offset]);
+                if along.is_none_or(|other| other == sig) && across.is_none_or(|other| other == sig)
+                {
+                    continue;
+                }
+                let neighbours = [
+                    (along, index.wrapping_sub(1), run.axes.0),
+                    (
+                        across,
+                        index.wrapping_sub(run.across.unwrap_or(0)),
+                        run.axes.1,
+                    ),
+                ];
+                for (side, (other, before, w)) in neighbours.into_iter().enumerate() {
+                    let Some(other) = other.filter(|&other| other != sig) else {
+                        continue;
+                    };
+                    let (ray, tmax, _) = grid.ray(index);
+                    let (from, _, _) = grid.ray(before);
+                    reach = reach.including(from.origin).including(ray.at(tmax));
+                    pieces.push(Piece {
+                        segment: segments.len() as u32,
+                        node: 1,
+                        ends: [(from.origin[w], other), (ray.origin[w], sig)],
+                    });
+                    segments.push(Segment {
+                        w,
+                        template: ray,
+                        tmax,
+                        id: self.first_index + ((2 * index + side as u64) << self.levels),
+                    });
+                }
             }
         }
         reach

@@ -110,7 +110,8 @@ impl<'a> RayCheck<'a> {
     /// The partitions of each of `rays` within `(tmin, tmax)` (unclipped)
     /// into the same places of `out`, several at once where the processor
     /// can: `zones` must hold every zone whose bounds any of them meets
-    /// there; `None`, walk the hierarchy.
+    /// there; `None`, walk the hierarchy. Only the regions and distances
+    /// are kept: a check reads nothing else.
     pub(crate) fn partitions_of_rays(
         &mut self,
         zones: Option<&[u32]>,
@@ -121,9 +122,7 @@ impl<'a> RayCheck<'a> {
     ) {
         let prepared = &self.model.prepared;
         match zones {
-            Some(zones) => {
-                prepared.partitions_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out)
-            }
+            Some(zones) => prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out),
             None => {
                 for (ray, parts) in rays.iter().zip(out) {
                     prepared.partitions(ray, tmin, tmax, &mut self.s, parts);

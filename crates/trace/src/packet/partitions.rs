@@ -40,6 +40,32 @@ impl Prepared {
         }
     }
 
+    /// [`Prepared::partitions_of_rays_in`] when only the regions and the
+    /// distances matter (a check's classification): the same regions and
+    /// distances, bit for bit, but the ends' bodies and faces are not
+    /// kept where the lanes made a stretch (they read 0 there), which
+    /// spares the packets carrying them.
+    pub fn stretches_of_rays_in(
+        &self,
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
+        assert!(
+            out.len() >= rays.len(),
+            "a list of partitions for every ray"
+        );
+        if stretches_any(self, zones, rays, tmin, tmax, s, out).is_some() {
+            return;
+        }
+        for (ray, parts) in rays.iter().zip(out) {
+            self.partitions_in(zones, ray, tmin, tmax, s, parts);
+        }
+    }
+
     /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
@@ -53,6 +79,37 @@ impl Prepared {
         sc: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
+        self.packet_partitions::<S, true>(s, zones, rays, (tmin, tmax), sc, out);
+    }
+
+    /// [`Prepared::stretches_of_rays_in`] in packets of `S::LANES` rays.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn stretches_in_packets<S: Simd>(
+        &self,
+        s: S,
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        sc: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
+        self.packet_partitions::<S, false>(s, zones, rays, (tmin, tmax), sc, out);
+    }
+
+    /// The partitions of `rays` in packets of `S::LANES` rays, with the
+    /// bodies and faces of the ends the lanes make when `BODIES`.
+    #[inline(always)]
+    fn packet_partitions<S: Simd, const BODIES: bool>(
+        &self,
+        s: S,
+        zones: &[u32],
+        rays: &[Ray],
+        (tmin, tmax): (f64, f64),
+        sc: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
         let mut tagged = std::mem::take(&mut sc.lane_tagged);
         tagged.resize_with(MAX_LANES, Vec::new);
         let mut held = HeldSpans::default();
@@ -62,7 +119,7 @@ impl Prepared {
             tagged.iter_mut().for_each(Vec::clear);
             for &zi in zones {
                 let rays = (&r, packet);
-                self.tag_zone_lanes(
+                self.tag_zone_lanes::<S, BODIES>(
                     s,
                     zi,
                     rays,
@@ -73,7 +130,7 @@ impl Prepared {
                     &mut held,
                 );
             }
-            held.hand_out(&mut tagged);
+            held.hand_out::<BODIES>(&mut tagged);
             for (lane, parts) in tagged.iter_mut().zip(parts.iter_mut()) {
                 parts.clear();
                 self.union_partitions(lane, parts);
@@ -89,7 +146,7 @@ impl Prepared {
     /// until the next zone a lane meets (or the packet's end).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn tag_zone_lanes<S: Simd>(
+    fn tag_zone_lanes<S: Simd, const BODIES: bool>(
         &self,
         s: S,
         zi: u32,
@@ -109,7 +166,7 @@ impl Prepared {
         }
         // The last zone's spans go first, so that each lane's spans stay
         // in the order of the zones.
-        held.hand_out(tagged);
+        held.hand_out::<BODIES>(tagged);
         let mut one_by_one = met;
         if z.lanes && !z.is_filled() {
             let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
@@ -119,7 +176,7 @@ impl Prepared {
             let first = s.bits(s.and(alive, within(s, &spans.cur, lo, hi)));
             let second = s.bits(s.and(s.and(alive, spans.two), within(s, &spans.next, lo, hi)));
             if first | second != 0 {
-                held.hold(s, z.region, (first, &spans.cur), (second, &spans.next));
+                held.hold::<S, BODIES>(s, z.region, (first, &spans.cur), (second, &spans.next));
             }
         }
         if one_by_one == 0 {
@@ -157,7 +214,7 @@ impl HeldSpans {
     /// Hold the spans `cur` of the lanes of `first` and `next` of those
     /// of `second`, of region `region`.
     #[inline(always)]
-    fn hold<S: Simd>(
+    fn hold<S: Simd, const BODIES: bool>(
         &mut self,
         s: S,
         region: u32,
@@ -166,15 +223,15 @@ impl HeldSpans {
     ) {
         self.region = region;
         (self.first, self.second) = (first, second);
-        store_span(s, cur, &mut self.cur);
+        store_span::<S, BODIES>(s, cur, &mut self.cur);
         if second != 0 {
-            store_span(s, next, &mut self.next);
+            store_span::<S, BODIES>(s, next, &mut self.next);
         }
     }
 
     /// Add the spans held to their lanes' lists, and hold none.
     #[inline(always)]
-    fn hand_out(&mut self, tagged: &mut [Vec<(u32, Span)>]) {
+    fn hand_out<const BODIES: bool>(&mut self, tagged: &mut [Vec<(u32, Span)>]) {
         let (first, second) = (self.first, self.second);
         if first | second == 0 {
             return;
@@ -185,42 +242,62 @@ impl HeldSpans {
             lanes &= lanes - 1;
             let lane = &mut tagged[j];
             if first & (1 << j) != 0 {
-                lane.push((self.region, lane_span(&self.cur, j)));
+                lane.push((self.region, lane_span::<BODIES>(&self.cur, j)));
             }
             if second & (1 << j) != 0 {
-                lane.push((self.region, lane_span(&self.next, j)));
+                lane.push((self.region, lane_span::<BODIES>(&self.next, j)));
             }
         }
         (self.first, self.second) = (0, 0);
     }
 }
 
-/// Store the ends of span `sp` of every lane into `out`: distance, body
-/// and face of each end. Written out, without a closure: one would stay a
-/// call outside the instruction set the packet is compiled for.
+/// Store the ends of span `sp` of every lane into `out`: distance, and
+/// when `BODIES`, body and face of each end. Written out, without a
+/// closure: one would stay a call outside the instruction set the packet
+/// is compiled for.
 #[inline(always)]
-fn store_span<S: Simd>(s: S, sp: &SpanLanes<S>, out: &mut [[f64; MAX_LANES]; 6]) {
+fn store_span<S: Simd, const BODIES: bool>(
+    s: S,
+    sp: &SpanLanes<S>,
+    out: &mut [[f64; MAX_LANES]; 6],
+) {
     let (End { t, body, face }, b) = (sp.a, sp.b);
     s.store(t, &mut out[0]);
-    s.store(body, &mut out[1]);
-    s.store(face, &mut out[2]);
     s.store(b.t, &mut out[3]);
-    s.store(b.body, &mut out[4]);
-    s.store(b.face, &mut out[5]);
+    if BODIES {
+        s.store(body, &mut out[1]);
+        s.store(face, &mut out[2]);
+        s.store(b.body, &mut out[4]);
+        s.store(b.face, &mut out[5]);
+    }
 }
 
-/// The span of lane `j` of the ends stored by [`store_span`].
+/// The span of lane `j` of the ends stored by [`store_span`] (bodies and
+/// faces 0 unless `BODIES`).
 #[inline(always)]
-fn lane_span(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span {
+fn lane_span<const BODIES: bool>(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span {
     let v = |k: usize| ends[k][j];
+    let id = |k: usize| if BODIES { v(k) as u32 } else { 0 };
     Span {
-        a: Bound::from_parts(v(0), v(1) as u32, v(2) as u32),
-        b: Bound::from_parts(v(3), v(4) as u32, v(5) as u32),
+        a: Bound::from_parts(v(0), id(1), id(2)),
+        b: Bound::from_parts(v(3), id(4), id(5)),
     }
 }
 
 compiled_for_each! {
     fn partitions_avx512, partitions_avx2, partitions_any => partitions_in_packets(
+        zones: &[u32],
+        rays: &[Ray],
+        tmin: f64,
+        tmax: f64,
+        s: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    )
+}
+
+compiled_for_each! {
+    fn stretches_avx512, stretches_avx2, stretches_any => stretches_in_packets(
         zones: &[u32],
         rays: &[Ray],
         tmin: f64,

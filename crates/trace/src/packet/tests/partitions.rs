@@ -4,6 +4,13 @@ use super::*;
 use crate::{Partition, PrepareOptions};
 use rand::SeedableRng;
 
+/// Bit-for-bit equality of the regions and distances of two partition
+/// lists.
+fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
+    let bits = |p: &Partition| (p.region, [p.span.a.t.to_bits(), p.span.b.t.to_bits()]);
+    a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
+}
+
 /// Bit-for-bit equality of two partition lists.
 fn same_parts(a: &[Partition], b: &[Partition]) -> bool {
     let bits = |p: &Partition| {
@@ -43,15 +50,20 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 .collect();
             stretches += one.iter().map(Vec::len).sum::<usize>();
             two_or_more += one.iter().filter(|parts| parts.len() > 1).count();
-            let check = |how: &str, trace: &mut dyn FnMut(&mut [Vec<Partition>])| {
+            let compare = |how: &str,
+                           same: fn(&[Partition], &[Partition]) -> bool,
+                           trace: &mut dyn FnMut(&mut [Vec<Partition>])| {
                 let mut many = vec![vec![]; rays.len()];
                 trace(&mut many);
                 for (k, (a, b)) in one.iter().zip(&many).enumerate() {
-                    assert!(
-                        same_parts(a, b),
-                        "{how}, batch {batch}, ray {k}: {a:?} {b:?}"
-                    );
+                    assert!(same(a, b), "{how}, batch {batch}, ray {k}: {a:?} {b:?}");
                 }
+            };
+            let check = |how: &str, trace: &mut dyn FnMut(&mut [Vec<Partition>])| {
+                compare(how, same_parts, trace)
+            };
+            let check_stretches = |how: &str, trace: &mut dyn FnMut(&mut [Vec<Partition>])| {
+                compare(how, same_stretches, trace)
             };
             check("list, ray by ray", &mut |o| {
                 for (ray, parts) in rays.iter().zip(o) {
@@ -67,6 +79,12 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
             check("the widest here", &mut |o| {
                 p.partitions_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
             });
+            check_stretches("stretches, four portable lanes", &mut |o| {
+                p.stretches_in_packets(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+            });
+            check_stretches("stretches, the widest here", &mut |o| {
+                p.stretches_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
+            });
             #[cfg(target_arch = "x86_64")]
             {
                 // SAFETY (both): the tokens prove the instructions are
@@ -79,6 +97,9 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("AVX2", &mut |o| unsafe {
                         partitions_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                    });
+                    check_stretches("stretches, AVX2", &mut |o| unsafe {
+                        stretches_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o)
                     });
                 }
             }

@@ -371,10 +371,13 @@ fn fire_grid_rays(
 ) {
     let grid = &plan.grid;
     for run in grid.row_runs(rays.clone()) {
+        // The run's rays differ only along the row: a packet's are its
+        // first ray with that coordinate changed.
         let (first, t1, area) = grid.ray(run.rays.start);
+        worker.rays.clear();
+        worker.rays.resize(PACKET as usize, first);
         for start in run.rays.clone().step_by(PACKET as usize) {
             let packet = start..(start + PACKET).min(run.rays.end);
-            grid.run_rays(&run, &first, packet.clone(), &mut worker.rays);
             let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
             let Worker {
                 ray_check,
@@ -382,6 +385,10 @@ fn fire_grid_rays(
                 parts,
                 ..
             } = worker;
+            let rays = &mut rays[..(packet.end - packet.start) as usize];
+            for (ray, index) in rays.iter_mut().zip(packet.clone()) {
+                ray.origin[run.axes.0] = grid.along_row(&run, index);
+            }
             ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
             for (at, (ray, ray_parts)) in packet.zip(rays.iter().zip(parts.iter_mut())) {
                 ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);

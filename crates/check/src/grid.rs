@@ -169,24 +169,12 @@ impl Grid {
         )
     }
 
-    /// Grid rays `packet` of run `run` into `out`, each exactly as
-    /// [`Grid::ray`] makes it, from `first`, the run's first ray: they
-    /// differ from it only along the row.
-    pub(crate) fn run_rays(
-        &self,
-        run: &RowRun,
-        first: &Ray,
-        packet: Range<u64>,
-        out: &mut Vec<Ray>,
-    ) {
+    /// Where grid ray `index` of run `run` passes along the run's row:
+    /// its coordinate `run.axes.0`, exactly as [`Grid::ray`] gives it (the
+    /// other coordinates are those of the run's first ray).
+    pub(crate) fn along_row(&self, run: &RowRun, index: u64) -> f64 {
         let (k, u) = (run.axis, run.axes.0);
-        out.clear();
-        out.extend(packet.map(|index| {
-            let mut ray = *first;
-            let i = index - run.row_start;
-            ray.origin[u] = self.lo[u] + (i as f64 + FRAC_U) * self.cell[k].0;
-            ray
-        }));
+        self.lo[u] + ((index - run.row_start) as f64 + FRAC_U) * self.cell[k].0
     }
 }
 

@@ -13,6 +13,10 @@ use sv_math::lanes::{box_lanes, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::Ray;
 
+/// [`partitions_any`] or [`stretches_any`].
+type PacketsOfRays =
+    fn(&Prepared, &[u32], &[Ray], f64, f64, &mut Scratch, &mut [Vec<Partition>]) -> Option<()>;
+
 impl Prepared {
     /// [`Prepared::partitions_in`] for each of `rays`, into the same
     /// places of `out`: `zones` must hold every zone whose bounds any of
@@ -28,16 +32,7 @@ impl Prepared {
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
-        assert!(
-            out.len() >= rays.len(),
-            "a list of partitions for every ray"
-        );
-        if partitions_any(self, zones, rays, tmin, tmax, s, out).is_some() {
-            return;
-        }
-        for (ray, parts) in rays.iter().zip(out) {
-            self.partitions_in(zones, ray, tmin, tmax, s, parts);
-        }
+        self.partitions_of_rays_with(partitions_any, zones, rays, (tmin, tmax), s, out);
     }
 
     /// [`Prepared::partitions_of_rays_in`] when only the regions and the
@@ -54,11 +49,25 @@ impl Prepared {
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
+        self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out);
+    }
+
+    /// The partitions of `rays` by `packets` where the processor has
+    /// vector instructions for it, else ray by ray.
+    fn partitions_of_rays_with(
+        &self,
+        packets: PacketsOfRays,
+        zones: &[u32],
+        rays: &[Ray],
+        (tmin, tmax): (f64, f64),
+        s: &mut Scratch,
+        out: &mut [Vec<Partition>],
+    ) {
         assert!(
             out.len() >= rays.len(),
             "a list of partitions for every ray"
         );
-        if stretches_any(self, zones, rays, tmin, tmax, s, out).is_some() {
+        if packets(self, zones, rays, tmin, tmax, s, out).is_some() {
             return;
         }
         for (ray, parts) in rays.iter().zip(out) {

@@ -42,10 +42,10 @@ use sv_math::{DVec3, Ray};
 /// on, and answers `None` when there is none (the caller's scalar code then
 /// does the work).
 macro_rules! compiled_for_each {
-    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?)) => {
-        compiled_for_each! { fn $avx512, $avx2, $any => $method($($arg: $ty),*) -> () }
+    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident $(::<$($gen:tt),+>)? ($($arg:ident: $ty:ty),* $(,)?)) => {
+        compiled_for_each! { fn $avx512, $avx2, $any => $method $(::<$($gen),+>)? ($($arg: $ty),*) -> () }
     };
-    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
+    (fn $avx512:ident, $avx2:ident, $any:ident => $method:ident $(::<$($gen:tt),+>)? ($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty) => {
         #[doc = concat!("[`Prepared::", stringify!($method), "`] with the widest instruction set here, if any.")]
         #[allow(clippy::too_many_arguments, clippy::unused_unit)]
         #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
@@ -76,7 +76,7 @@ macro_rules! compiled_for_each {
             t: sv_math::simd::Avx512,
             $($arg: $ty),*
         ) -> $ret {
-            p.$method(t, $($arg),*)
+            p.$method $(::<$($gen),+>)? (t, $($arg),*)
         }
 
         #[doc = concat!("[`Prepared::", stringify!($method), "`] compiled for AVX2.")]
@@ -91,7 +91,7 @@ macro_rules! compiled_for_each {
             t: sv_math::simd::Avx2,
             $($arg: $ty),*
         ) -> $ret {
-            p.$method(t, $($arg),*)
+            p.$method $(::<$($gen),+>)? (t, $($arg),*)
         }
     };
 }

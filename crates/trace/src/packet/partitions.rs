@@ -75,47 +75,18 @@ impl Prepared {
         }
     }
 
-    /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays.
+    /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays
+    /// when `BODIES`, else [`Prepared::stretches_of_rays_in`]: the ends'
+    /// bodies and faces are kept only when `BODIES`.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn partitions_in_packets<S: Simd>(
+    pub(crate) fn packet_partitions<S: Simd, const BODIES: bool>(
         &self,
         s: S,
         zones: &[u32],
         rays: &[Ray],
         tmin: f64,
         tmax: f64,
-        sc: &mut Scratch,
-        out: &mut [Vec<Partition>],
-    ) {
-        self.packet_partitions::<S, true>(s, zones, rays, (tmin, tmax), sc, out);
-    }
-
-    /// [`Prepared::stretches_of_rays_in`] in packets of `S::LANES` rays.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    pub(crate) fn stretches_in_packets<S: Simd>(
-        &self,
-        s: S,
-        zones: &[u32],
-        rays: &[Ray],
-        tmin: f64,
-        tmax: f64,
-        sc: &mut Scratch,
-        out: &mut [Vec<Partition>],
-    ) {
-        self.packet_partitions::<S, false>(s, zones, rays, (tmin, tmax), sc, out);
-    }
-
-    /// The partitions of `rays` in packets of `S::LANES` rays, with the
-    /// bodies and faces of the ends the lanes make when `BODIES`.
-    #[inline(always)]
-    fn packet_partitions<S: Simd, const BODIES: bool>(
-        &self,
-        s: S,
-        zones: &[u32],
-        rays: &[Ray],
-        (tmin, tmax): (f64, f64),
         sc: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
@@ -295,7 +266,7 @@ fn lane_span<const BODIES: bool>(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span
 }
 
 compiled_for_each! {
-    fn partitions_avx512, partitions_avx2, partitions_any => partitions_in_packets(
+    fn partitions_avx512, partitions_avx2, partitions_any => packet_partitions::<_, true>(
         zones: &[u32],
         rays: &[Ray],
         tmin: f64,
@@ -306,7 +277,7 @@ compiled_for_each! {
 }
 
 compiled_for_each! {
-    fn stretches_avx512, stretches_avx2, stretches_any => stretches_in_packets(
+    fn stretches_avx512, stretches_avx2, stretches_any => packet_partitions::<_, false>(
         zones: &[u32],
         rays: &[Ray],
         tmin: f64,

@@ -71,16 +71,16 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 }
             });
             check("four portable lanes", &mut |o| {
-                p.partitions_in_packets(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+                p.packet_partitions::<_, true>(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
             });
             check("eight portable lanes", &mut |o| {
-                p.partitions_in_packets(Portable::<8>, &all, &rays, tmin, tmax, &mut s, o)
+                p.packet_partitions::<_, true>(Portable::<8>, &all, &rays, tmin, tmax, &mut s, o)
             });
             check("the widest here", &mut |o| {
                 p.partitions_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
             });
             check_stretches("stretches, four portable lanes", &mut |o| {
-                p.stretches_in_packets(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+                p.packet_partitions::<_, false>(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
             });
             check_stretches("stretches, the widest here", &mut |o| {
                 p.stretches_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)

@@ -19,9 +19,6 @@ pub struct Scratch {
     pub(crate) cur: Vec<Span>,
     pub(crate) tmp: Vec<Span>,
     pub(crate) tagged: Vec<(u32, Span)>,
-    /// Per lane of a packet, the spans of its ray tagged with their
-    /// regions (partitions in packets).
-    pub(crate) lane_tagged: Vec<Vec<(u32, Span)>>,
     pub(crate) stack: Stack,
     /// Per zone, the packet of shadow rays that last tested it, so that a
     /// packet tests each zone its rays' cells list once.
@@ -45,7 +42,6 @@ impl Scratch {
             cur: Vec::with_capacity(16),
             tmp: Vec::with_capacity(16),
             tagged: Vec::new(),
-            lane_tagged: Vec::new(),
             stack: Stack::new(),
             tested: vec![0; p.zones.len()],
             packet: 0,

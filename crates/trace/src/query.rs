@@ -357,22 +357,34 @@ impl Prepared {
     }
 
     /// The stretches of `tagged` (spans of zones, each with its region)
-    /// unioned region by region into `out`, sorted by entry then region.
-    /// Taken in that order, each span extends the region's last stretch
-    /// when it starts within the tolerance of its end, or starts a new
-    /// one: the stretches come out in order, and each region's spans are
-    /// unioned in the order of their entries, ties in the order given.
+    /// unioned region by region into `out`: see
+    /// [`Prepared::union_in_place`].
     pub(crate) fn union_partitions(&self, tagged: &mut [(u32, Span)], out: &mut Vec<Partition>) {
-        tagged.sort_by(|a, b| a.1.a.t.total_cmp(&b.1.a.t).then(a.0.cmp(&b.0)));
-        // Regions already out, by their number modulo 64: most come once,
-        // and need no search for a stretch to extend.
-        let mut out_already = 0u64;
+        out.clear();
         for &(region, span) in tagged.iter() {
+            insert_by_entry(out, Partition { region, span });
+        }
+        self.union_in_place(out);
+    }
+
+    /// Each region's stretches in `parts`, sorted by
+    /// [`insert_by_entry`], unioned in place. Taken in order, each
+    /// stretch extends the region's last one kept when it starts within
+    /// the tolerance of its end, or is kept: the stretches stay in order,
+    /// and each region's are unioned in the order of their entries, ties
+    /// in the order they were inserted.
+    pub(crate) fn union_in_place(&self, parts: &mut Vec<Partition>) {
+        // Regions already kept, by their number modulo 64: most come
+        // once, and need no search for a stretch to extend.
+        let mut kept_already = 0u64;
+        let mut kept = 0;
+        for at in 0..parts.len() {
+            let Partition { region, span } = parts[at];
             let bit = 1u64 << (region % 64);
-            let searched = out_already & bit != 0;
-            out_already |= bit;
+            let searched = kept_already & bit != 0;
+            kept_already |= bit;
             let last = if searched {
-                out.iter_mut().rev().find(|p| p.region == region)
+                parts[..kept].iter_mut().rev().find(|p| p.region == region)
             } else {
                 None
             };
@@ -382,9 +394,13 @@ impl Prepared {
                         last.span.b = span.b;
                     }
                 }
-                _ => out.push(Partition { region, span }),
+                _ => {
+                    parts[kept] = parts[at];
+                    kept += 1;
+                }
             }
         }
+        parts.truncate(kept);
     }
 
     /// Every surface crossing along the ray for `t > tmin`, in order: where
@@ -528,6 +544,29 @@ impl Prepared {
         }
         steps
     }
+}
+
+/// Add `part` to `parts`, which stay sorted by entry, then region, and
+/// after those equal to it: a stable sort of the stretches as they come,
+/// which are few and nearly in order (the zones are listed by where the
+/// rays enter their bounds).
+#[inline(always)]
+pub(crate) fn insert_by_entry(parts: &mut Vec<Partition>, part: Partition) {
+    let after = |p: &Partition| {
+        p.span
+            .a
+            .t
+            .total_cmp(&part.span.a.t)
+            .then(p.region.cmp(&part.region))
+            .is_gt()
+    };
+    let mut at = parts.len();
+    parts.push(part);
+    while at > 0 && after(&parts[at - 1]) {
+        parts[at] = parts[at - 1];
+        at -= 1;
+    }
+    parts[at] = part;
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ use super::primary::lanes_of;
 use super::{within, End, SpanLanes};
 use crate::hit::{Partition, Scratch};
 use crate::prepare::Prepared;
+use crate::query::insert_by_entry;
 use sv_geom::boolean::{Bound, Span};
 use sv_math::lanes::{box_lanes, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
@@ -90,13 +91,11 @@ impl Prepared {
         sc: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
-        let mut tagged = std::mem::take(&mut sc.lane_tagged);
-        tagged.resize_with(MAX_LANES, Vec::new);
         let mut held = HeldSpans::default();
         for (packet, parts) in rays.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
             let r = lanes_of(s, packet);
             let active = (1u32 << packet.len()) - 1;
-            tagged.iter_mut().for_each(Vec::clear);
+            parts.iter_mut().for_each(Vec::clear);
             for &zi in zones {
                 let rays = (&r, packet);
                 self.tag_zone_lanes::<S, BODIES>(
@@ -106,24 +105,23 @@ impl Prepared {
                     active,
                     (tmin, tmax),
                     sc,
-                    &mut tagged,
+                    parts,
                     &mut held,
                 );
             }
-            held.hand_out::<BODIES>(&mut tagged);
-            for (lane, parts) in tagged.iter_mut().zip(parts.iter_mut()) {
-                parts.clear();
-                self.union_partitions(lane, parts);
+            held.hand_out::<BODIES>(parts);
+            for lane in parts.iter_mut() {
+                self.union_in_place(lane);
             }
         }
-        sc.lane_tagged = tagged;
     }
 
     /// The spans of zone `zi` along the rays of the lanes of `active`
     /// (`r` in lanes, `rays` one by one) that reach into `(tmin, tmax)`,
-    /// added to each lane's list in `tagged` with the zone's region: those
-    /// made one by one at once, those made in the lanes held in `held`
-    /// until the next zone a lane meets (or the packet's end).
+    /// added to each lane's stretches in `parts` (by
+    /// [`insert_by_entry`]) with the zone's region: those made one by one
+    /// at once, those made in the lanes held in `held` until the next zone
+    /// a lane meets (or the packet's end).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn tag_zone_lanes<S: Simd, const BODIES: bool>(
@@ -134,7 +132,7 @@ impl Prepared {
         active: u32,
         (tmin, tmax): (f64, f64),
         sc: &mut Scratch,
-        tagged: &mut [Vec<(u32, Span)>],
+        parts: &mut [Vec<Partition>],
         held: &mut HeldSpans,
     ) {
         let z = &self.zones[zi as usize];
@@ -146,7 +144,7 @@ impl Prepared {
         }
         // The last zone's spans go first, so that each lane's spans stay
         // in the order of the zones.
-        held.hand_out::<BODIES>(tagged);
+        held.hand_out::<BODIES>(parts);
         let mut one_by_one = met;
         if z.lanes && !z.is_filled() {
             let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
@@ -162,15 +160,24 @@ impl Prepared {
         if one_by_one == 0 {
             return;
         }
-        for (j, (ray, lane)) in rays.iter().zip(tagged.iter_mut()).enumerate() {
+        for (j, (ray, lane)) in rays.iter().zip(parts.iter_mut()).enumerate() {
             if one_by_one & (1 << j) == 0 {
                 continue;
             }
             sc.new_ray();
             if z.is_filled() {
-                self.fill_partitions(z, ray, tmin, tmax, sc, lane);
+                let mut tagged = std::mem::take(&mut sc.tagged);
+                tagged.clear();
+                self.fill_partitions(z, ray, tmin, tmax, sc, &mut tagged);
+                for &(region, span) in &tagged {
+                    insert_by_entry(lane, Partition { region, span });
+                }
+                sc.tagged = tagged;
             } else if self.zone_spans(z, ray, tmin, tmax, sc) {
-                lane.extend(sc.cur.iter().map(|sp| (z.region, *sp)));
+                for &span in &sc.cur {
+                    let region = z.region;
+                    insert_by_entry(lane, Partition { region, span });
+                }
             }
         }
     }
@@ -209,9 +216,9 @@ impl HeldSpans {
         }
     }
 
-    /// Add the spans held to their lanes' lists, and hold none.
+    /// Add the spans held to their lanes' stretches, and hold none.
     #[inline(always)]
-    fn hand_out<const BODIES: bool>(&mut self, tagged: &mut [Vec<(u32, Span)>]) {
+    fn hand_out<const BODIES: bool>(&mut self, parts: &mut [Vec<Partition>]) {
         let (first, second) = (self.first, self.second);
         if first | second == 0 {
             return;
@@ -220,12 +227,14 @@ impl HeldSpans {
         while lanes != 0 {
             let j = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let lane = &mut tagged[j];
+            let (lane, region) = (&mut parts[j], self.region);
             if first & (1 << j) != 0 {
-                lane.push((self.region, lane_span::<BODIES>(&self.cur, j)));
+                let span = lane_span::<BODIES>(&self.cur, j);
+                insert_by_entry(lane, Partition { region, span });
             }
             if second & (1 << j) != 0 {
-                lane.push((self.region, lane_span::<BODIES>(&self.next, j)));
+                let span = lane_span::<BODIES>(&self.next, j);
+                insert_by_entry(lane, Partition { region, span });
             }
         }
         (self.first, self.second) = (0, 0);

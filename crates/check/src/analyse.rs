@@ -93,11 +93,11 @@ impl<'a> RayCheck<'a> {
 
     /// The partitions clipped to `(tmin, tmax)`.
     fn clip(&mut self, tmin: f64, tmax: f64) {
-        for p in &mut self.parts {
+        self.parts.retain_mut(|p| {
             p.span.a.t = p.span.a.t.max(tmin);
             p.span.b.t = p.span.b.t.min(tmax);
-        }
-        self.parts.retain(|p| p.span.b.t > p.span.a.t);
+            p.span.b.t > p.span.a.t
+        });
     }
 
     /// See [`analyse_ray`].

@@ -663,11 +663,29 @@ pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
 /// The rays of [`Ray::coordinates`] `v` in lanes, each coordinate read
 /// across the rays at once. (Written lane by lane into arrays first, they
 /// were loaded back whole before the writes could be forwarded, which
-/// stalled every packet.)
+/// stalled every packet.) Where the rays share their direction, as a
+/// grid's and an orthographic view's do, the first ray's is copied to
+/// every lane instead: a gather reads one value at a time, and six of them
+/// cost more than comparing the rays.
 #[inline(always)]
 fn gather_lanes<S: Simd>(s: S, v: &[f64]) -> Lanes<S> {
+    let o = [s.gather(v, 0, 9), s.gather(v, 1, 9), s.gather(v, 2, 9)];
+    let first = &v[3..9];
+    let shared = v.chunks_exact(9).skip(1).all(|ray| {
+        ray[3..9]
+            .iter()
+            .zip(first)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    });
+    if shared {
+        return Lanes {
+            o,
+            d: [s.splat(v[3]), s.splat(v[4]), s.splat(v[5])],
+            inv: [s.splat(v[6]), s.splat(v[7]), s.splat(v[8])],
+        };
+    }
     Lanes {
-        o: [s.gather(v, 0, 9), s.gather(v, 1, 9), s.gather(v, 2, 9)],
+        o,
         d: [s.gather(v, 3, 9), s.gather(v, 4, 9), s.gather(v, 5, 9)],
         inv: [s.gather(v, 6, 9), s.gather(v, 7, 9), s.gather(v, 8, 9)],
     }

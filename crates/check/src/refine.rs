@@ -110,6 +110,10 @@ pub(crate) struct Bundle {
     zones: Vec<u32>,
 }
 
+/// Grid rays whose signatures [`Refinement::segments`] compares with
+/// their neighbours' at once.
+const SCAN_BLOCK: usize = 8;
+
 /// Rays fired together by a refinement: as many as a packet of the grid's.
 const BUNDLE: usize = sv_math::lanes::MAX_LANES;
 
@@ -213,10 +217,27 @@ impl Refinement {
                 continue;
             };
             let back = back as usize;
-            for (offset, &sig) in held[back..].iter().enumerate() {
+            let across_mask = if run.across.is_some() { u64::MAX } else { 0 };
+            let mut offset = 0;
+            while offset < held.len() - back {
                 let index = run.rays.start + offset as u64;
-                let along = (index > run.row_start).then(|| held[back + offset - 1]);
-                let across = run.across.map(|_| held[offset]);
+                // A block of rays that all see what both their neighbours
+                // see is passed over with one test.
+                if index > run.row_start && offset + SCAN_BLOCK <= held.len() - back {
+                    let differ = (offset..offset + SCAN_BLOCK).fold(0, |differ, at| {
+                        let sig = held[back + at];
+                        differ | (sig ^ held[back + at - 1]) | ((sig ^ held[at]) & across_mask)
+                    });
+                    if differ == 0 {
+                        offset += SCAN_BLOCK;
+                        continue;
+                    }
+                }
+                let at = offset;
+                offset += 1;
+                let sig = held[back + at];
+                let along = (index > run.row_start).then(|| held[back + at - 1]);
+                let across = run.across.map(|_| held[at]);
                 if along.is_none_or(|other| other == sig) && across.is_none_or(|other| other == sig)
                 {
                     continue;

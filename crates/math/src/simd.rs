@@ -90,6 +90,11 @@ pub trait Simd: Copy {
     fn any(self, m: Self::M) -> bool {
         self.bits(m) != 0
     }
+    /// True when every lane is set.
+    #[inline(always)]
+    fn all(self, m: Self::M) -> bool {
+        self.bits(m) == (1 << Self::LANES) - 1
+    }
     /// The mask with no lane set.
     #[inline(always)]
     fn none(self) -> Self::M {

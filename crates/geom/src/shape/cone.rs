@@ -144,13 +144,22 @@ impl Cone {
         // Frame::slab.
         let flat = s.eq(d[2], zero);
         let mut miss = s.and(flat, s.or(s.lt(o[2], zero), s.gt(o[2], one)));
-        let ta = s.div(s.neg(o[2]), d[2]);
-        let tb = s.div(s.sub(one, o[2]), d[2]);
-        let up = s.gt(d[2], zero);
-        let t0 = s.select(flat, ninf, s.select(up, ta, tb));
-        let t1 = s.select(flat, inf, s.select(up, tb, ta));
-        let f0 = s.select(flat, lat, s.select(up, base, top));
-        let f1 = s.select(flat, lat, s.select(up, top, base));
+        let (t0, t1, f0, f1) = if s.all(flat) {
+            // Every ray runs across the axis, as a grid's rays do across
+            // an upright cylinder: the ends are never crossed, and the
+            // divisions for them would be thrown away.
+            (ninf, inf, lat, lat)
+        } else {
+            let ta = s.div(s.neg(o[2]), d[2]);
+            let tb = s.div(s.sub(one, o[2]), d[2]);
+            let up = s.gt(d[2], zero);
+            (
+                s.select(flat, ninf, s.select(up, ta, tb)),
+                s.select(flat, inf, s.select(up, tb, ta)),
+                s.select(flat, lat, s.select(up, base, top)),
+                s.select(flat, lat, s.select(up, top, base)),
+            )
+        };
         // Cone::lateral.
         let k = self.k;
         let a = s.sub(

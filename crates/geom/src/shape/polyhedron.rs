@@ -85,6 +85,12 @@ impl Polyhedron {
             let dist = s.sub(s.splat(pl.d), dot(s, n, r.o));
             let flat = s.eq(denom, zero);
             miss = s.or(miss, s.and(flat, s.lt(dist, zero)));
+            if s.all(flat) {
+                // Every ray runs along the plane, as a grid's rays do along
+                // the sides of a box: it can only miss (the division
+                // below would change nothing in a lane parallel to it).
+                continue;
+            }
             let t = s.div(dist, denom);
             let entering = s.lt(denom, zero);
             let face = s.splat(i as f64);

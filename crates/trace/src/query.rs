@@ -352,14 +352,14 @@ impl Prepared {
             }
         };
         walk(&mut collect, s);
-        self.union_partitions(&mut tagged, out);
+        self.union_partitions(&tagged, out);
         s.tagged = tagged;
     }
 
     /// The stretches of `tagged` (spans of zones, each with its region)
     /// unioned region by region into `out`: see
     /// [`Prepared::union_in_place`].
-    pub(crate) fn union_partitions(&self, tagged: &mut [(u32, Span)], out: &mut Vec<Partition>) {
+    pub(crate) fn union_partitions(&self, tagged: &[(u32, Span)], out: &mut Vec<Partition>) {
         out.clear();
         for &(region, span) in tagged.iter() {
             insert_by_entry(out, Partition { region, span });

@@ -8,6 +8,7 @@
 
 use crate::hit::{Hit, Partition, Scratch};
 use crate::prepare::{Prepared, PreparedZone};
+use crate::query::insert_by_entry;
 use std::sync::Arc;
 use sv_geom::boolean::{Bound, Span};
 use sv_geom::{Fill, Geometry, Lattice, LatticeKind};
@@ -500,8 +501,8 @@ impl Prepared {
     }
 
     /// The partitions inside filled zone `z` along the ray within
-    /// `(tmin, tmax)`, tagged with their regions, into `out`: what the fill
-    /// holds, cut to where the ray is inside the zone.
+    /// `(tmin, tmax)`, each added to `out` by [`insert_by_entry`]: what
+    /// the fill holds, cut to where the ray is inside the zone.
     pub(crate) fn fill_partitions(
         &self,
         z: &PreparedZone,
@@ -509,7 +510,7 @@ impl Prepared {
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
-        out: &mut Vec<(u32, Span)>,
+        out: &mut Vec<Partition>,
     ) {
         if !self.zone_spans(z, ray, tmin, tmax, s) {
             return;
@@ -546,7 +547,8 @@ impl Prepared {
                                 // the slivers where the walk steps over a
                                 // face).
                                 if hi.t - lo.t > self.tol {
-                                    out.push((z.region, Span { a: lo, b: hi }));
+                                    let (region, span) = (z.region, Span { a: lo, b: hi });
+                                    insert_by_entry(out, Partition { region, span });
                                 }
                             } else {
                                 self.sub_partitions(sub, moved, at, ray, (lo, hi), s, out);
@@ -572,7 +574,7 @@ impl Prepared {
         ray: &Ray,
         (lo, hi): (Bound, Bound),
         s: &mut Scratch,
-        out: &mut Vec<(u32, Span)>,
+        out: &mut Vec<Partition>,
     ) {
         let p = &self.subs[sub as usize];
         let mut inner_ray = moved.ray(ray);
@@ -607,7 +609,8 @@ impl Prepared {
                 ours(q.span.b)
             };
             if b.t > a.t {
-                out.push((q.region, Span { a, b }));
+                let (region, span) = (q.region, Span { a, b });
+                insert_by_entry(out, Partition { region, span });
             }
         }
     }

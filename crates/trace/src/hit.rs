@@ -18,7 +18,6 @@ pub struct Scratch {
     pub(crate) segs: Vec<Seg>,
     pub(crate) cur: Vec<Span>,
     pub(crate) tmp: Vec<Span>,
-    pub(crate) tagged: Vec<(u32, Span)>,
     pub(crate) stack: Stack,
     /// Per zone, the packet of shadow rays that last tested it, so that a
     /// packet tests each zone its rays' cells list once.
@@ -41,7 +40,6 @@ impl Scratch {
             segs: Vec::with_capacity(64),
             cur: Vec::with_capacity(16),
             tmp: Vec::with_capacity(16),
-            tagged: Vec::new(),
             stack: Stack::new(),
             tested: vec![0; p.zones.len()],
             packet: 0,

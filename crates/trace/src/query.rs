@@ -338,32 +338,18 @@ impl Prepared {
     ) {
         s.new_ray();
         out.clear();
-        let mut tagged = std::mem::take(&mut s.tagged);
-        tagged.clear();
         let mut collect = |zi: u32, s: &mut Scratch| {
             let z = &self.zones[zi as usize];
             if hits(&z.bounds, ray, tmin, tmax).is_none() {
                 return;
             }
             if z.is_filled() {
-                self.fill_partitions(z, ray, tmin, tmax, s, &mut tagged);
+                self.fill_partitions(z, ray, tmin, tmax, s, out);
             } else if self.zone_spans(z, ray, tmin, tmax, s) {
-                tagged.extend(s.cur.iter().map(|sp| (z.region, *sp)));
+                insert_spans(out, z.region, &s.cur);
             }
         };
         walk(&mut collect, s);
-        self.union_partitions(&tagged, out);
-        s.tagged = tagged;
-    }
-
-    /// The stretches of `tagged` (spans of zones, each with its region)
-    /// unioned region by region into `out`: see
-    /// [`Prepared::union_in_place`].
-    pub(crate) fn union_partitions(&self, tagged: &[(u32, Span)], out: &mut Vec<Partition>) {
-        out.clear();
-        for &(region, span) in tagged.iter() {
-            insert_by_entry(out, Partition { region, span });
-        }
         self.union_in_place(out);
     }
 
@@ -543,6 +529,15 @@ impl Prepared {
                 .collect();
         }
         steps
+    }
+}
+
+/// Add each of `spans`, of region `region`, to `parts` by
+/// [`insert_by_entry`].
+#[inline(always)]
+pub(crate) fn insert_spans(parts: &mut Vec<Partition>, region: u32, spans: &[Span]) {
+    for &span in spans {
+        insert_by_entry(parts, Partition { region, span });
     }
 }
 

@@ -8,7 +8,7 @@ use super::primary::lanes_of;
 use super::{within, End, SpanLanes};
 use crate::hit::{Partition, Scratch};
 use crate::prepare::Prepared;
-use crate::query::insert_by_entry;
+use crate::query::{insert_by_entry, insert_spans};
 use sv_geom::boolean::{Bound, Span};
 use sv_math::lanes::{box_lanes, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
@@ -166,18 +166,9 @@ impl Prepared {
             }
             sc.new_ray();
             if z.is_filled() {
-                let mut tagged = std::mem::take(&mut sc.tagged);
-                tagged.clear();
-                self.fill_partitions(z, ray, tmin, tmax, sc, &mut tagged);
-                for &(region, span) in &tagged {
-                    insert_by_entry(lane, Partition { region, span });
-                }
-                sc.tagged = tagged;
+                self.fill_partitions(z, ray, tmin, tmax, sc, lane);
             } else if self.zone_spans(z, ray, tmin, tmax, sc) {
-                for &span in &sc.cur {
-                    let region = z.region;
-                    insert_by_entry(lane, Partition { region, span });
-                }
+                insert_spans(lane, z.region, &sc.cur);
             }
         }
     }

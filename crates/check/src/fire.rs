@@ -87,6 +87,12 @@ impl Totals {
 /// time, however many rays.
 const BATCH: u64 = 1024;
 
+/// Chunks refined together: the refinement rays of neighbouring chunks
+/// and rows share packets (each ray's findings still go to its own
+/// chunk's sums, in an order that depends on the chunk alone; see
+/// [`crate::refine`]).
+const REFINE_GROUP: usize = 64;
+
 /// Fire the chunks `chunks` of the grid and random rays on the rayon pool,
 /// each followed by the refinement rays of the neighbouring grid rays that
 /// end in it (see [`crate::refine`]): per chunk, in chunk order, every
@@ -138,21 +144,21 @@ pub(crate) fn fire_chunks(
                 },
             )
             .collect();
-        let done: Vec<(ChunkFindings, u64)> = sums
-            .par_iter_mut()
+        let done: Vec<(Vec<ChunkFindings>, u64)> = sums
+            .par_chunks_mut(REFINE_GROUP)
             .enumerate()
             .map_init(
                 || (RayCheck::new(model), Bundle::default()),
-                |(ray_check, bundle), (at, chunk_sums)| {
-                    let chunk = batch.start + at as u64;
+                |(ray_check, bundle), (at, group_sums)| {
+                    let first = batch.start + (at * REFINE_GROUP) as u64;
                     let work = (ray_check, bundle);
-                    refine_chunk(plan, work, chunk, &sigs, chunk_sums, &seen)
+                    refine_chunks(plan, work, first, &sigs, group_sums, &seen)
                 },
             )
             .collect();
         for (found, rays) in done {
             refined += rays;
-            each(found);
+            found.into_iter().for_each(&mut *each);
         }
         sigs.keep_from((batch.end * CHUNK).saturating_sub(grid.longest_row()));
     }
@@ -178,18 +184,20 @@ fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
     sigs
 }
 
-/// Fire the refinement rays that end in chunk `chunk` (see
-/// [`Refinement::refine`]), adding their findings to the chunk's `sums`:
-/// the chunk's findings in order of kind, and the number of rays.
-fn refine_chunk(
+/// Fire the refinement rays that end in the chunks from `first` on, one
+/// for each of `sums` (see [`Refinement::refine`]), adding their findings
+/// to each chunk's sums: each chunk's findings in order of kind, and the
+/// number of rays.
+fn refine_chunks(
     plan: &Plan,
     (ray_check, bundle): (&mut RayCheck, &mut Bundle),
-    chunk: u64,
+    first: u64,
     sigs: &Signatures,
-    sums: &mut KindSums,
+    sums: &mut [KindSums],
     seen: &[AtomicBool],
-) -> (ChunkFindings, u64) {
-    let rays = chunk * CHUNK..((chunk + 1) * CHUNK).min(plan.grid.total());
+) -> (Vec<ChunkFindings>, u64) {
+    let total = plan.grid.total();
+    let rays = (first * CHUNK).min(total)..((first + sums.len() as u64) * CHUNK).min(total);
     let mut fired = 0;
     if rays.start < rays.end {
         fired = plan.refinement.refine(
@@ -197,10 +205,13 @@ fn refine_chunk(
             sigs,
             rays,
             (ray_check, bundle, plan.tolerance),
-            &mut |ray_check, ray, index| gather(ray_check, ray, index, 0.0, sums, seen),
+            &mut |ray_check, ray, (id, grid_ray)| {
+                let chunk_sums = &mut sums[(grid_ray / CHUNK - first) as usize];
+                gather(ray_check, ray, id, 0.0, chunk_sums, seen);
+            },
         );
     }
-    (sums.sorted(), fired)
+    (sums.iter().map(KindSums::sorted).collect(), fired)
 }
 
 /// The zones a run of grid rays along one row can meet: those whose

@@ -150,11 +150,17 @@ impl Grid {
         Aabb::EMPTY.including(a.origin).including(b.at(t1))
     }
 
-    /// Ray `idx` of the grid, its t range and the area it stands for.
-    pub(crate) fn ray(&self, idx: u64) -> (Ray, f64, f64) {
+    /// Where grid ray `idx` lies: the axis it runs along, its place along
+    /// its row and its row.
+    pub(crate) fn place(&self, idx: u64) -> (usize, u64, u64) {
         let k = self.axis(idx);
         let local = idx - self.first[k];
-        let (i, j) = (local % self.n[k].0, local / self.n[k].0);
+        (k, local % self.n[k].0, local / self.n[k].0)
+    }
+
+    /// Ray `idx` of the grid, its t range and the area it stands for.
+    pub(crate) fn ray(&self, idx: u64) -> (Ray, f64, f64) {
+        let (k, i, j) = self.place(idx);
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         let mut o = DVec3::ZERO;
         o[k] = self.lo[k] - self.pad;

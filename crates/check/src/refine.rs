@@ -11,6 +11,14 @@
 //! spacing. A sliver lying across the segment between the two rays, at the
 //! edge where what they see changes, is met once the segments are no
 //! longer than twice its thickness.
+//!
+//! The segments are fired in tiles of a few neighbouring columns of a
+//! grid, tile after tile, and in each by row, then column: the rays of a
+//! packet lie close together and meet the same few zones. Within a run of
+//! grid rays refined together, each ray's findings come in an order that
+//! depends only on the segments (halving after halving, and in each by
+//! tile, row and column), whatever other rays are refined with them: a
+//! chunk's sums are the same to the bit however chunks are grouped.
 
 use crate::analyse::RayCheck;
 use crate::grid::Grid;
@@ -79,12 +87,16 @@ pub(crate) struct Refinement {
 
 /// A stretch between two neighbouring grid rays to bisect: the axis `w`
 /// along which its ends lie apart, the ray its midpoints copy (but for
-/// coordinate `w`) and its range, and the index of its first ray.
+/// coordinate `w`) and its range, the index of its first ray, the grid ray
+/// it ends at, and its tile.
+#[derive(Clone, Copy)]
 struct Segment {
     w: usize,
     template: Ray,
     tmax: f64,
     id: u64,
+    grid_ray: u64,
+    tile: u32,
 }
 
 /// A piece of a segment still to bisect: the segment, its node in the
@@ -97,18 +109,45 @@ struct Piece {
     ends: [(f64, u64); 2],
 }
 
-/// Working memory of a refinement: the segments to bisect and their
-/// pieces at this halving and the next, a bundle's rays, their partitions
-/// and zones.
+/// [`TILE_COLUMNS`] neighbouring columns of one grid, over the rows
+/// refined together.
+struct Tile {
+    /// The grid's axis and the first column.
+    key: (usize, u64),
+    /// The box its segments' rays cross.
+    reach: Aabb,
+    /// While the segments are put in order of their tiles: how many are
+    /// in it, then where its next goes in `Bundle::segments`.
+    slot: u32,
+    /// Its zones in `Bundle::zones` (`None`: walk the hierarchy).
+    zones: Option<Range<usize>>,
+}
+
+/// Working memory of a refinement: the segments to bisect as found and
+/// by tile, their tiles, the pieces at this halving and the next, a
+/// bundle's rays, their partitions, and the tiles' zones.
 #[derive(Default)]
 pub(crate) struct Bundle {
+    found: Vec<Segment>,
     segments: Vec<Segment>,
+    tiles: Vec<Tile>,
+    /// Per block of [`TILE_COLUMNS`] columns of the current grid, its tile.
+    tile_of_block: Vec<u32>,
+    /// The tiles in order of their keys.
+    tile_order: Vec<u32>,
     pieces: Vec<Piece>,
     next: Vec<Piece>,
     rays: Vec<Ray>,
     parts: Vec<Vec<Partition>>,
     zones: Vec<u32>,
+    /// One tile's zones as the hierarchy lists them.
+    listed: Vec<u32>,
 }
+
+/// What a refinement hands on of each ray it fires: the partitions and
+/// findings of the check, the ray, its index and the grid ray its segment
+/// ends at.
+pub(crate) type Found<'a> = dyn FnMut(&RayCheck, &Ray, (u64, u64)) + 'a;
 
 /// Grid rays whose signatures [`Refinement::segments`] compares with
 /// their neighbours' at once.
@@ -117,95 +156,79 @@ const SCAN_BLOCK: usize = 8;
 /// Rays fired together by a refinement: as many as a packet of the grid's.
 const BUNDLE: usize = sv_math::lanes::MAX_LANES;
 
-/// Rays bisecting different pieces go together while they lie within
-/// this many grid cells of the bundle's first: their box, whose zones they
-/// share, stays small.
-const NEAR_CELLS: f64 = 256.0;
+/// Columns of a grid in a tile: the rays of a bundle lie within this many
+/// columns of each other, and within the rows refined together, so that
+/// they meet the same few zones.
+const TILE_COLUMNS: u64 = 8;
 
 impl Refinement {
     /// Fire the refinement rays of the pairs of neighbouring grid rays
     /// that end at the rays `rays` (the one before along the row, and the
     /// one before across it), whose signatures `sigs` holds, a halving at a
-    /// time, in bundles of nearby rays. Each ray fired is handed to `found`
-    /// with its index and the partitions and findings of `ray_check`
-    /// (tolerance `tol`); the number of rays fired.
+    /// time, tile by tile in bundles of neighbouring rays. Each ray fired
+    /// is handed to `found` with its index, the grid ray its segment ends
+    /// at, and the partitions and findings of `ray_check` (tolerance
+    /// `tol`), in the order the module describes; the number of rays
+    /// fired.
     pub fn refine(
         &self,
         grid: &Grid,
         sigs: &Signatures,
         rays: Range<u64>,
         (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
-        found: &mut dyn FnMut(&RayCheck, &Ray, u64),
+        found: &mut Found,
     ) -> u64 {
         if self.levels == 0 {
             return 0;
         }
-        // The lists are the bundle's, kept from chunk to chunk.
-        let mut segments = std::mem::take(&mut bundle.segments);
+        self.segments(grid, sigs, rays, bundle);
+        bundle.order_by_tile();
+        bundle.list_zones(ray_check);
+        // The lists are the bundle's, kept from run to run.
+        let segments = std::mem::take(&mut bundle.segments);
         let mut pieces = std::mem::take(&mut bundle.pieces);
         let mut next = std::mem::take(&mut bundle.next);
-        let reach = self.segments(grid, sigs, rays, &mut segments, &mut pieces);
         let mut fired = 0;
-        if !segments.is_empty() {
-            // The zones any of the rays can meet, listed once for all, in
-            // the order the first segment's rays enter their bounds (as a
-            // grid row's, see `fire::RowZones`).
-            let prepared = ray_check.prepared();
-            let listed = prepared.all_zones_in_box(&reach, &mut bundle.zones);
-            if listed {
-                let dir = segments[0].template.dir;
-                let along = (0..3).find(|&k| dir[k] != 0.0).unwrap_or(0);
-                bundle.zones.sort_by(|&a, &b| {
-                    let entry = |z| prepared.zone_bounds(z).min[along];
-                    entry(a).total_cmp(&entry(b))
-                });
+        for _ in 0..self.levels {
+            next.clear();
+            let mut first = 0;
+            while first < pieces.len() {
+                // The bundle: the pieces after `first` in its tile.
+                let tile = segments[pieces[first].segment as usize].tile;
+                let end = (first..pieces.len())
+                    .take(BUNDLE)
+                    .take_while(|&at| segments[pieces[at].segment as usize].tile == tile)
+                    .last()
+                    .map_or(first + 1, |last| last + 1);
+                let zones = bundle.tiles[tile as usize].zones.clone();
+                let work = (&mut *ray_check, &mut *bundle, tol);
+                let group = (&segments[..], &pieces[first..end]);
+                fired += self.fire_bundle(group, zones, work, found, &mut next);
+                first = end;
             }
-            let near = NEAR_CELLS * grid.widest_cell().1;
-            for _ in 0..self.levels {
-                next.clear();
-                let mut first = 0;
-                while first < pieces.len() {
-                    // The bundle: the pieces after `first` whose rays share
-                    // a range and lie near the first's.
-                    let lead = &segments[pieces[first].segment as usize];
-                    let end = (first..pieces.len())
-                        .take(BUNDLE)
-                        .take_while(|&at| {
-                            let other = &segments[pieces[at].segment as usize];
-                            other.tmax == lead.tmax
-                                && (other.template.origin - lead.template.origin)
-                                    .abs()
-                                    .max_element()
-                                    <= near
-                        })
-                        .last()
-                        .map_or(first + 1, |last| last + 1);
-                    let group = &pieces[first..end];
-                    let work = (&mut *ray_check, &mut *bundle, tol);
-                    fired += self.fire_bundle(&segments, group, listed, work, found, &mut next);
-                    first = end;
-                }
-                std::mem::swap(&mut pieces, &mut next);
-            }
+            std::mem::swap(&mut pieces, &mut next);
         }
         (bundle.segments, bundle.pieces, bundle.next) = (segments, pieces, next);
         fired
     }
 
     /// The segments between neighbouring grid rays that end at `rays` and
-    /// see different things into `segments`, a piece for each (the whole
-    /// segment) into `pieces`; the box their rays cross.
-    fn segments(
-        &self,
-        grid: &Grid,
-        sigs: &Signatures,
-        rays: Range<u64>,
-        segments: &mut Vec<Segment>,
-        pieces: &mut Vec<Piece>,
-    ) -> Aabb {
+    /// see different things, in the order of the rays, into
+    /// `bundle.found`, a piece for each (the whole segment) into
+    /// `bundle.next`, and the tiles they lie in, with the box their rays
+    /// cross, into `bundle.tiles`.
+    fn segments(&self, grid: &Grid, sigs: &Signatures, rays: Range<u64>, bundle: &mut Bundle) {
+        let Bundle {
+            found: segments,
+            next: pieces,
+            tiles,
+            tile_of_block,
+            ..
+        } = bundle;
         segments.clear();
         pieces.clear();
-        let mut reach = Aabb::EMPTY;
+        tiles.clear();
+        tile_of_block.clear();
         for run in grid.row_runs(rays) {
             // The run's signatures, after those of the neighbours before
             // it: most rays see what both neighbours see, so the scan
@@ -256,7 +279,10 @@ impl Refinement {
                     };
                     let (ray, tmax, _) = grid.ray(index);
                     let (from, _, _) = grid.ray(before);
-                    reach = reach.including(from.origin).including(ray.at(tmax));
+                    let (axis, column, _) = grid.place(index);
+                    let tile = tile_of(tiles, tile_of_block, axis, column);
+                    let reach = &mut tiles[tile as usize].reach;
+                    *reach = reach.including(from.origin).including(ray.at(tmax));
                     pieces.push(Piece {
                         segment: segments.len() as u32,
                         node: 1,
@@ -267,24 +293,24 @@ impl Refinement {
                         template: ray,
                         tmax,
                         id: self.first_index + ((2 * index + side as u64) << self.levels),
+                        grid_ray: index,
+                        tile,
                     });
                 }
             }
         }
-        reach
     }
 
-    /// Fire the midpoints of `pieces` together (through the zones of
-    /// `bundle` when `listed`, else walking the hierarchy), and add to
+    /// Fire the midpoints of `pieces` together (through the zones `zones`
+    /// of `bundle`, or walking the hierarchy when `None`), and add to
     /// `next` the halves whose ends still see different things; the rays
     /// fired.
     fn fire_bundle(
         &self,
-        segments: &[Segment],
-        pieces: &[Piece],
-        listed: bool,
+        (segments, pieces): (&[Segment], &[Piece]),
+        zones: Option<Range<usize>>,
         (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
-        found: &mut dyn FnMut(&RayCheck, &Ray, u64),
+        found: &mut Found,
         next: &mut Vec<Piece>,
     ) -> u64 {
         let tmax = segments[pieces[0].segment as usize].tmax;
@@ -298,12 +324,12 @@ impl Refinement {
         bundle
             .parts
             .resize_with(pieces.len().max(bundle.parts.len()), Vec::new);
-        let zones = listed.then_some(&bundle.zones[..]);
+        let zones = zones.map(|range| &bundle.zones[range]);
         ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, &mut bundle.parts);
         for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {
             ray_check.run_on(parts, ray, 0.0, tmax, tol);
             let segment = &segments[piece.segment as usize];
-            found(ray_check, ray, segment.id + piece.node);
+            found(ray_check, ray, (segment.id + piece.node, segment.grid_ray));
             let sig = signature(&ray_check.parts, tol);
             let mid = (ray.origin[segment.w], sig);
             let [low, high] = piece.ends;
@@ -320,5 +346,86 @@ impl Refinement {
             }
         }
         pieces.len() as u64
+    }
+}
+
+/// The tile of column `column` of the grid along `axis`, added to `tiles`
+/// if new; `tile_of_block` holds the tile of each block of columns of the
+/// grid of the last tile added.
+fn tile_of(tiles: &mut Vec<Tile>, tile_of_block: &mut Vec<u32>, axis: usize, column: u64) -> u32 {
+    if tiles.last().is_some_and(|last| last.key.0 != axis) {
+        tile_of_block.clear();
+    }
+    let block = (column / TILE_COLUMNS) as usize;
+    if tile_of_block.len() <= block {
+        tile_of_block.resize(block + 1, u32::MAX);
+    }
+    if tile_of_block[block] == u32::MAX {
+        tile_of_block[block] = tiles.len() as u32;
+        tiles.push(Tile {
+            key: (axis, column - column % TILE_COLUMNS),
+            reach: Aabb::EMPTY,
+            slot: 0,
+            zones: None,
+        });
+    }
+    tile_of_block[block]
+}
+
+impl Bundle {
+    /// Put the segments found (`found`, with their whole pieces in
+    /// `next`) in order of their tiles' keys, each tile's in the order
+    /// found (by row, then column), into `segments`, and their pieces
+    /// into `pieces`.
+    fn order_by_tile(&mut self) {
+        let tiles = &mut self.tiles;
+        self.tile_order.clear();
+        self.tile_order.extend(0..tiles.len() as u32);
+        self.tile_order
+            .sort_unstable_by_key(|&tile| tiles[tile as usize].key);
+        // Where each tile's segments start, in the order of the keys.
+        for segment in &self.found {
+            tiles[segment.tile as usize].slot += 1;
+        }
+        let mut start = 0;
+        for &tile in &self.tile_order {
+            let count = tiles[tile as usize].slot;
+            tiles[tile as usize].slot = start;
+            start += count;
+        }
+        self.segments.clone_from(&self.found);
+        self.pieces.clone_from(&self.next);
+        for (segment, piece) in self.found.iter().zip(&self.next) {
+            let at = &mut tiles[segment.tile as usize].slot;
+            self.segments[*at as usize] = *segment;
+            self.pieces[*at as usize] = Piece {
+                segment: *at,
+                ..*piece
+            };
+            *at += 1;
+        }
+    }
+
+    /// List the zones each tile's rays may meet into `zones`, in the
+    /// order the rays enter their bounds (as a grid row's, see
+    /// `fire::RowZones`).
+    fn list_zones(&mut self, ray_check: &RayCheck) {
+        let prepared = ray_check.prepared();
+        self.zones.clear();
+        let mut listed = std::mem::take(&mut self.listed);
+        for tile in &mut self.tiles {
+            tile.zones = None;
+            if !prepared.all_zones_in_box(&tile.reach, &mut listed) {
+                continue;
+            }
+            let along = tile.key.0;
+            listed.sort_by(|&a, &b| {
+                let entry = |z| prepared.zone_bounds(z).min[along];
+                entry(a).total_cmp(&entry(b))
+            });
+            tile.zones = Some(self.zones.len()..self.zones.len() + listed.len());
+            self.zones.extend_from_slice(&listed);
+        }
+        self.listed = listed;
     }
 }

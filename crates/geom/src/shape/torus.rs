@@ -50,6 +50,21 @@ impl Torus {
         }) else {
             return;
         };
+        if self.misses_clearly(o, d, (lo, hi)) {
+            return;
+        }
+        self.shoot_quartic(ray, (o, d), (lo, hi), out);
+    }
+
+    /// The segments of `ray` (`o + t·d` in local space) within `(lo, hi)`
+    /// from the roots of the torus's quartic.
+    fn shoot_quartic(
+        &self,
+        ray: &Ray,
+        (o, d): (DVec3, DVec3),
+        (lo, hi): (f64, f64),
+        out: &mut Vec<Seg>,
+    ) {
         // Shift the origin to the box entry so the quartic is well scaled.
         let o = o + d * lo;
         let (a2, b2) = (self.r1 * self.r1, self.r2 * self.r2);
@@ -73,6 +88,48 @@ impl Torus {
         }
         let inside = |p: DVec3| self.inside_local(self.rot * (p - self.c));
         segments_by_classification(&mut cands[..n], ray, inside, out);
+    }
+
+    /// True when the ray `o + t·d` (local), `t` in `range`, passes the
+    /// tube by more than a billionth of the torus's size: its distance
+    /// from the axis stays beyond the tube's reach wherever it is level
+    /// with the tube. Exact for rays along the axis and across it
+    /// (the grids' rays through a torus turned to an axis); a ray that
+    /// passes closer goes to the quartic, which finds no root for a ray
+    /// that misses, so the segments are the same either way.
+    fn misses_clearly(&self, o: DVec3, d: DVec3, (lo, hi): (f64, f64)) -> bool {
+        let margin = 1e-9 * (self.r1 + self.r2);
+        // Where the ray is level with the tube, and how far the tube
+        // reaches from its core circle there.
+        let top = self.r2 + margin;
+        let (ta, tb, reach) = if d.z == 0.0 {
+            if o.z.abs() > top {
+                return true;
+            }
+            (lo, hi, (self.r2 * self.r2 - o.z * o.z).max(0.0).sqrt())
+        } else {
+            let (za, zb) = ((-top - o.z) / d.z, (top - o.z) / d.z);
+            (lo.max(za.min(zb)), hi.min(za.max(zb)), self.r2)
+        };
+        if ta.is_nan() || tb.is_nan() {
+            return false;
+        }
+        if ta > tb {
+            return true;
+        }
+        // Squared distance from the axis: convex in t, so largest at an
+        // end of the stretch and smallest at its vertex or an end.
+        let across = |t: f64| (o.x + t * d.x).powi(2) + (o.y + t * d.y).powi(2);
+        let flat = d.x * d.x + d.y * d.y;
+        let nearest = if flat > 0.0 {
+            (-(o.x * d.x + o.y * d.y) / flat).clamp(ta, tb)
+        } else {
+            ta
+        };
+        let (closest, farthest) = (across(nearest), across(ta).max(across(tb)));
+        let outer = self.r1 + reach + margin;
+        let inner = self.r1 - reach - margin;
+        closest > outer * outer || (inner > 0.0 && farthest < inner * inner)
     }
 
     /// Outward unit normal at a point of the surface.
@@ -115,4 +172,82 @@ pub(crate) fn prepare_tor(b: &Body, _: &mut Vec<Warning>) -> Result<(super::Shap
     let torus = Torus::new(b.vec3(0), n, r1, r2);
     let bounds = torus.bounds();
     Ok((super::Shape::Torus(torus), bounds))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The ray from `from` along `dir`, and it in the frame of `torus`
+    /// (origin, direction, range in the torus's box).
+    fn local_ray(
+        torus: &Torus,
+        from: DVec3,
+        dir: DVec3,
+    ) -> Option<(Ray, DVec3, DVec3, (f64, f64))> {
+        let ray = Ray::new(from, dir.normalize());
+        let o = torus.rot * (ray.origin - torus.c);
+        let d = torus.rot * ray.dir;
+        let e = torus.r1 + torus.r2;
+        let lb = Aabb::new(DVec3::new(-e, -e, -torus.r2), DVec3::new(e, e, torus.r2));
+        let range = lb.ray_range(&Ray::new(o, d))?;
+        Some((ray, o, d, range))
+    }
+
+    proptest! {
+        /// Every ray the quick test passes over gets no segment from the
+        /// quartic either: grid rays (along the world's axes, through tori
+        /// turned to an axis or leaning) and rays in any direction.
+        #[test]
+        fn rays_passed_over_meet_no_tube(
+            axis in prop::sample::select(vec![DVec3::X, DVec3::Y, DVec3::Z, DVec3::new(0.3015, 0.3015, 0.9045)]),
+            (r1, r2) in (1.0f64..10.0, 0.05f64..0.95).prop_map(|(r1, k)| (r1, r1 * k)),
+            from in prop::array::uniform3(-12.0f64..12.0),
+            along in 0usize..4,
+            dir in prop::array::uniform3(-1.0f64..1.0),
+        ) {
+            let torus = Torus::new(DVec3::new(0.5, -0.25, 1.0), axis, r1, r2);
+            let dir = match along {
+                3 => DVec3::from(dir),
+                k => DVec3::AXES[k],
+            };
+            prop_assume!(dir.length() > 0.1);
+            let from = DVec3::from(from) - dir.normalize() * 30.0;
+            if let Some((ray, o, d, range)) = local_ray(&torus, from, dir) {
+                if torus.misses_clearly(o, d, range) {
+                    let mut segs = Vec::new();
+                    torus.shoot_quartic(&ray, (o, d), range, &mut segs);
+                    prop_assert!(segs.is_empty(), "{segs:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rays_through_the_hole_and_beside_the_rim_are_passed_over() {
+        let torus = Torus::new(DVec3::ZERO, DVec3::X, 5.0, 2.0);
+        // Along the axis through the hole, and across it (in the box)
+        // beside the rim of the tube where they pass.
+        for (from, dir) in [
+            (DVec3::new(-20.0, 1.0, 0.5), DVec3::X),
+            (DVec3::new(1.5, -20.0, 6.6), DVec3::Y),
+            (DVec3::new(1.0, 6.9, -20.0), DVec3::Z),
+        ] {
+            let (_, o, d, range) = local_ray(&torus, from, dir).unwrap();
+            assert!(torus.misses_clearly(o, d, range), "{from} {dir}");
+        }
+        // Rays that meet the tube are not.
+        for (from, dir) in [
+            (DVec3::new(-20.0, 5.0, 0.0), DVec3::X),
+            (DVec3::new(0.0, -20.0, 0.0), DVec3::Y),
+            (DVec3::new(1.9, -20.0, 5.0), DVec3::Y),
+        ] {
+            let (_, o, d, range) = local_ray(&torus, from, dir).unwrap();
+            assert!(!torus.misses_clearly(o, d, range), "{from} {dir}");
+            let mut segs = Vec::new();
+            torus.shoot(&Ray::new(from, dir), &mut segs);
+            assert!(!segs.is_empty(), "{from} {dir}");
+        }
+    }
 }

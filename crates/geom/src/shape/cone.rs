@@ -398,6 +398,12 @@ impl GeneralCone {
     /// Append the segments of the ray inside the body to `out` (see
     /// [`super::Shape::shoot`]).
     pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        self.shoot_with(ray, true, out);
+    }
+
+    /// [`GeneralCone::shoot`], passing the quartic over for rays along
+    /// the axis that cannot cross the lateral surface when `quick`.
+    fn shoot_with(&self, ray: &Ray, quick: bool, out: &mut Vec<Seg>) {
         let (o, d) = self.f.local(ray);
         let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else {
             return;
@@ -421,6 +427,20 @@ impl GeneralCone {
         if lo >= hi || lo.is_nan() || hi.is_nan() {
             return;
         }
+        let mut cands = [(0.0, 0u32); 6];
+        cands[0] = (lo, if lo == t0 { f0 } else { LATERAL });
+        cands[1] = (hi, if hi == t1 { f1 } else { LATERAL });
+        let world_inside = |p: DVec3| self.inside_local(self.f.inv * (p - self.f.v));
+        if quick && d.x == 0.0 && d.y == 0.0 {
+            match self.along_axis(o) {
+                Some(false) => return,
+                Some(true) => {
+                    segments_by_classification(&mut cands[..2], ray, world_inside, out);
+                    return;
+                }
+                None => {}
+            }
+        }
         // Shift the origin to `lo` for conditioning.
         let os = o + d * lo;
         let x = [os.x, d.x];
@@ -439,14 +459,31 @@ impl GeneralCone {
         let poly: [f64; 5] = std::array::from_fn(|i| p1[i] + p2[i] - p3[i]);
         let mut roots = [0.0; 4];
         let n = roots_in(&poly, 0.0, hi - lo, &mut roots);
-        let mut cands = [(0.0, 0u32); 6];
-        cands[0] = (lo, if lo == t0 { f0 } else { LATERAL });
-        cands[1] = (hi, if hi == t1 { f1 } else { LATERAL });
         for i in 0..n {
             cands[2 + i] = (roots[i] + lo, LATERAL);
         }
-        let world_inside = |p: DVec3| self.inside_local(self.f.inv * (p - self.f.v));
         segments_by_classification(&mut cands[..2 + n], ray, world_inside, out);
+    }
+
+    /// For a ray along the axis through `o` (local): `Some(false)` when it
+    /// stays outside the lateral surface by more than a billionth all the
+    /// way, `Some(true)` when it stays inside it so, `None` when it may
+    /// cross it. Neither way does it cross the surface, so the quartic has
+    /// no root to give, and the segments are those of the caps alone.
+    fn along_axis(&self, o: DVec3) -> Option<bool> {
+        const MARGIN: f64 = 1e-9;
+        // Where the ray is, against the cross-section at height z: convex
+        // in z, so inside at both caps means inside between them.
+        let against = |sa: f64, sb: f64| (o.x / sa).powi(2) + (o.y / sb).powi(2);
+        if against(m2(self.ka), m2(self.kb)) > 1.0 + MARGIN {
+            return Some(false);
+        }
+        let (top_a, top_b) = (1.0 + self.ka, 1.0 + self.kb);
+        let inside = top_a > 0.0
+            && top_b > 0.0
+            && against(1.0, 1.0) < 1.0 - MARGIN
+            && against(top_a, top_b) < 1.0 - MARGIN;
+        inside.then_some(true)
     }
 
     /// Outward unit normal at a point of the surface.
@@ -552,4 +589,70 @@ pub(crate) fn prepare_tgc(b: &Body, _: &mut Vec<Warning>) -> Result<(Shape, Aabb
     } else {
         Shape::GeneralCone(GeneralCone::new(b.vec3(0), a, bb, h, ra, rb))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A TGC standing on the origin along `axis`, its base semi-axes along
+    /// the next two axes.
+    fn general_cone(axis: usize, (a, b, h): (f64, f64, f64), (ra, rb): (f64, f64)) -> GeneralCone {
+        let along = |k: usize, len: f64| DVec3::AXES[k % 3] * len;
+        GeneralCone::new(
+            DVec3::new(0.5, -0.25, 1.0),
+            along(axis + 1, a),
+            along(axis + 2, b),
+            along(axis, h),
+            ra,
+            rb,
+        )
+    }
+
+    proptest! {
+        /// Rays along the axis get the same segments whether or not the
+        /// quartic is passed over.
+        #[test]
+        fn rays_along_the_axis_skip_the_quartic_unchanged(
+            axis in 0usize..3,
+            size in (0.5f64..10.0, 0.5f64..10.0, 0.5f64..20.0),
+            ratios in (0.0f64..2.5, 0.0f64..2.5),
+            across in prop::array::uniform2(-25.0f64..25.0),
+            backwards in any::<bool>(),
+        ) {
+            let cone = general_cone(axis, size, ratios);
+            let mut from = DVec3::new(0.5, -0.25, 1.0) - DVec3::AXES[axis] * 40.0;
+            from[(axis + 1) % 3] += across[0];
+            from[(axis + 2) % 3] += across[1];
+            let mut dir = DVec3::AXES[axis];
+            if backwards {
+                from += dir * 100.0;
+                dir = -dir;
+            }
+            let ray = Ray::new(from, dir);
+            let (mut quick, mut full) = (Vec::new(), Vec::new());
+            cone.shoot_with(&ray, true, &mut quick);
+            cone.shoot_with(&ray, false, &mut full);
+            prop_assert_eq!(quick, full);
+        }
+    }
+
+    #[test]
+    fn rays_along_the_axis_inside_and_outside_pass_the_quartic_over() {
+        let cone = general_cone(2, (5.0, 8.0, 10.0), (0.4, 1.125));
+        let (o, _) = cone
+            .f
+            .local(&Ray::new(DVec3::new(0.5, -0.25, -5.0), DVec3::Z));
+        assert_eq!(cone.along_axis(o), Some(true));
+        let (o, _) = cone
+            .f
+            .local(&Ray::new(DVec3::new(7.0, 8.5, -5.0), DVec3::Z));
+        assert_eq!(cone.along_axis(o), Some(false));
+        // Between the base's ellipse and the top's: it may cross.
+        let (o, _) = cone
+            .f
+            .local(&Ray::new(DVec3::new(4.0, -0.25, -5.0), DVec3::Z));
+        assert_eq!(cone.along_axis(o), None);
+    }
 }

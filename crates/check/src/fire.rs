@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::ops::Range;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use sv_math::{DVec3, Ray};
 use sv_trace::Partition;
 
@@ -106,9 +106,7 @@ pub(crate) fn fire_chunks(
     chunks: Range<u64>,
     each: &mut dyn FnMut(ChunkFindings),
 ) -> (Vec<bool>, u64) {
-    let seen: Vec<AtomicBool> = (0..model.names.len())
-        .map(|_| AtomicBool::new(false))
-        .collect();
+    let seen = Met::new(model.names.len());
     let refining = plan.refinement.levels > 0;
     let grid = &plan.grid;
     let mut sigs = Signatures {
@@ -162,7 +160,11 @@ pub(crate) fn fire_chunks(
         }
         sigs.keep_from((batch.end * CHUNK).saturating_sub(grid.longest_row()));
     }
-    let seen = seen.into_iter().map(AtomicBool::into_inner).collect();
+    let seen = seen
+        .regions
+        .into_iter()
+        .map(AtomicBool::into_inner)
+        .collect();
     (seen, refined)
 }
 
@@ -194,7 +196,7 @@ fn refine_chunks(
     first: u64,
     sigs: &Signatures,
     sums: &mut [KindSums],
-    seen: &[AtomicBool],
+    seen: &Met,
 ) -> (Vec<ChunkFindings>, u64) {
     let total = plan.grid.total();
     let rays = (first * CHUNK).min(total)..((first + sums.len() as u64) * CHUNK).min(total);
@@ -340,7 +342,7 @@ fn fire_chunk(
     opts: &CheckOptions,
     worker: &mut Worker,
     (chunk, sigs): (u64, &mut [u64]),
-    seen: &[AtomicBool],
+    seen: &Met,
 ) -> KindSums {
     let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
@@ -411,26 +413,44 @@ fn fire_grid_rays(
 
 /// Add the findings of ray `index` (standing for `area`) to `sums`, and
 /// mark the regions it met in `seen`.
-fn gather(
-    ray_check: &RayCheck,
-    ray: &Ray,
-    index: u64,
-    area: f64,
-    sums: &mut KindSums,
-    seen: &[AtomicBool],
-) {
-    for part in &ray_check.parts {
-        let met = &seen[part.region as usize];
-        // Read first: once every thread has seen the region, its line
-        // stays shared instead of passing from core to core.
-        if !met.load(Ordering::Relaxed) {
-            met.store(true, Ordering::Relaxed);
-        }
-    }
+fn gather(ray_check: &RayCheck, ray: &Ray, index: u64, area: f64, sums: &mut KindSums, seen: &Met) {
+    seen.mark(&ray_check.parts);
     for finding in &ray_check.findings {
         let length = finding.t1 - finding.t0;
         let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
         sums.add(finding.kind, (length, area, index), midpoint);
+    }
+}
+
+/// The regions any ray has met, marked by the rays of all threads.
+struct Met {
+    regions: Vec<AtomicBool>,
+    /// How many are not marked yet: once none are left, a ray need not
+    /// read its regions at all.
+    unmarked: AtomicUsize,
+}
+
+impl Met {
+    fn new(regions: usize) -> Met {
+        Met {
+            regions: (0..regions).map(|_| AtomicBool::new(false)).collect(),
+            unmarked: AtomicUsize::new(regions),
+        }
+    }
+
+    /// Mark the regions of `parts`.
+    fn mark(&self, parts: &[Partition]) {
+        if self.unmarked.load(Ordering::Relaxed) == 0 {
+            return;
+        }
+        for part in parts {
+            let met = &self.regions[part.region as usize];
+            // Read first: once every thread has seen the region, its line
+            // stays shared instead of passing from core to core.
+            if !met.load(Ordering::Relaxed) && !met.swap(true, Ordering::Relaxed) {
+                self.unmarked.fetch_sub(1, Ordering::Relaxed);
+            }
+        }
     }
 }
 

@@ -128,7 +128,7 @@ struct Tile {
 /// bundle's rays, their partitions, and the tiles' zones.
 #[derive(Default)]
 pub(crate) struct Bundle {
-    found: Vec<Segment>,
+    unsorted: Vec<Segment>,
     segments: Vec<Segment>,
     tiles: Vec<Tile>,
     /// Per block of [`TILE_COLUMNS`] columns of the current grid, its tile.
@@ -214,12 +214,12 @@ impl Refinement {
 
     /// The segments between neighbouring grid rays that end at `rays` and
     /// see different things, in the order of the rays, into
-    /// `bundle.found`, a piece for each (the whole segment) into
+    /// `bundle.unsorted`, a piece for each (the whole segment) into
     /// `bundle.next`, and the tiles they lie in, with the box their rays
     /// cross, into `bundle.tiles`.
     fn segments(&self, grid: &Grid, sigs: &Signatures, rays: Range<u64>, bundle: &mut Bundle) {
         let Bundle {
-            found: segments,
+            unsorted: segments,
             next: pieces,
             tiles,
             tile_of_block,
@@ -373,7 +373,7 @@ fn tile_of(tiles: &mut Vec<Tile>, tile_of_block: &mut Vec<u32>, axis: usize, col
 }
 
 impl Bundle {
-    /// Put the segments found (`found`, with their whole pieces in
+    /// Put the segments found (`unsorted`, with their whole pieces in
     /// `next`) in order of their tiles' keys, each tile's in the order
     /// found (by row, then column), into `segments`, and their pieces
     /// into `pieces`.
@@ -384,7 +384,7 @@ impl Bundle {
         self.tile_order
             .sort_unstable_by_key(|&tile| tiles[tile as usize].key);
         // Where each tile's segments start, in the order of the keys.
-        for segment in &self.found {
+        for segment in &self.unsorted {
             tiles[segment.tile as usize].slot += 1;
         }
         let mut start = 0;
@@ -393,9 +393,9 @@ impl Bundle {
             tiles[tile as usize].slot = start;
             start += count;
         }
-        self.segments.clone_from(&self.found);
+        self.segments.clone_from(&self.unsorted);
         self.pieces.clone_from(&self.next);
-        for (segment, piece) in self.found.iter().zip(&self.next) {
+        for (segment, piece) in self.unsorted.iter().zip(&self.next) {
             let at = &mut tiles[segment.tile as usize].slot;
             self.segments[*at as usize] = *segment;
             self.pieces[*at as usize] = Piece {

@@ -34,19 +34,18 @@ pub(crate) fn signature(parts: &[Partition], tol: f64) -> u64 {
     let mut mix = |x: u64| {
         hash = (hash ^ x).wrapping_mul(0x0000_0100_0000_01b3);
     };
-    let mut reach = f64::NEG_INFINITY;
-    for (index, part) in parts.iter().enumerate() {
+    let Some((first, rest)) = parts.split_first() else {
+        return hash;
+    };
+    mix(u64::from(first.region) << 2);
+    let mut reach = f64::NEG_INFINITY.max(first.span.b.t);
+    for part in rest {
         let (a, b) = (part.span.a.t, part.span.b.t);
-        let link = if index == 0 {
-            0
-        } else if a > reach + tol {
-            1
-        } else if a < reach - tol {
-            2
-        } else {
-            3
-        };
-        mix(u64::from(part.region) << 2 | link);
+        // 1 after a gap, 2 overlapping, 3 touching, worked out without
+        // branches: which of the three comes is not predictable.
+        let gap = u64::from(a > reach + tol);
+        let overlap = u64::from(a < reach - tol);
+        mix(u64::from(part.region) << 2 | (3 - 2 * gap - overlap));
         reach = reach.max(b);
     }
     hash

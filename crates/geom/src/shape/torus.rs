@@ -39,21 +39,28 @@ impl Torus {
     /// Append the segments of the ray inside the body to `out` (see
     /// [`super::Shape::shoot`]).
     pub fn shoot(&self, ray: &Ray, out: &mut Vec<Seg>) {
+        let Some((o, d, range)) = self.local_range(ray) else {
+            return;
+        };
+        if self.misses_clearly(o, d, range) {
+            return;
+        }
+        self.shoot_quartic(ray, (o, d), range, out);
+    }
+
+    /// `ray` in local space (origin and direction) and its range in the
+    /// torus's box, if it crosses the box.
+    fn local_range(&self, ray: &Ray) -> Option<(DVec3, DVec3, (f64, f64))> {
         let o = self.rot * (ray.origin - self.c);
         let d = self.rot * ray.dir;
         let e = self.r1 + self.r2;
         let lb = Aabb::new(DVec3::new(-e, -e, -self.r2), DVec3::new(e, e, self.r2));
-        let Some((lo, hi)) = lb.ray_range(&Ray {
+        let range = lb.ray_range(&Ray {
             origin: o,
             dir: d,
             inv_dir: d.recip(),
-        }) else {
-            return;
-        };
-        if self.misses_clearly(o, d, (lo, hi)) {
-            return;
-        }
-        self.shoot_quartic(ray, (o, d), (lo, hi), out);
+        })?;
+        Some((o, d, range))
     }
 
     /// The segments of `ray` (`o + t·d` in local space) within `(lo, hi)`
@@ -187,11 +194,7 @@ mod tests {
         dir: DVec3,
     ) -> Option<(Ray, DVec3, DVec3, (f64, f64))> {
         let ray = Ray::new(from, dir.normalize());
-        let o = torus.rot * (ray.origin - torus.c);
-        let d = torus.rot * ray.dir;
-        let e = torus.r1 + torus.r2;
-        let lb = Aabb::new(DVec3::new(-e, -e, -torus.r2), DVec3::new(e, e, torus.r2));
-        let range = lb.ray_range(&Ray::new(o, d))?;
+        let (o, d, range) = torus.local_range(&ray)?;
         Some((ray, o, d, range))
     }
 

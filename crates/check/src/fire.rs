@@ -209,7 +209,7 @@ fn refine_chunks(
             (ray_check, bundle, plan.tolerance),
             &mut |ray_check, ray, (id, grid_ray)| {
                 let chunk_sums = &mut sums[(grid_ray / CHUNK - first) as usize];
-                gather(ray_check, ray, id, 0.0, chunk_sums, seen);
+                gather(ray_check, ray, id, 0.0, chunk_sums, Some(seen));
             },
         );
     }
@@ -351,13 +351,21 @@ fn fire_chunk(
     let refining = plan.refinement.levels > 0;
     let rays = chunk * CHUNK..end.min(grid_rays);
     let mut sig_slots = sigs.iter_mut();
+    let mut last_sig = None;
     fire_grid_rays(model, plan, worker, rays, |ray_check, ray, at, area| {
-        gather(ray_check, ray, at, area, &mut sums, seen);
+        let mut as_before = false;
         if refining {
             if let Some(slot) = sig_slots.next() {
-                *slot = signature(&ray_check.parts, tolerance);
+                let sig = signature(&ray_check.parts, tolerance);
+                *slot = sig;
+                as_before = last_sig.replace(sig) == Some(sig);
             }
         }
+        // A ray with the signature of the one before it meets the regions
+        // that one met (but for a collision of 64-bit hashes, which the
+        // refinement relies on too), and they are marked.
+        let seen = (!as_before).then_some(seen);
+        gather(ray_check, ray, at, area, &mut sums, seen);
     });
     let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
     for random_index in randoms {
@@ -366,7 +374,7 @@ fn fire_chunk(
             let ray_check = &mut worker.ray_check;
             ray_check.run(&ray, t0, t1, tolerance);
             let at = grid_rays + random_index;
-            gather(ray_check, &ray, at, 0.0, &mut sums, seen);
+            gather(ray_check, &ray, at, 0.0, &mut sums, Some(seen));
         }
     }
     sums
@@ -412,9 +420,18 @@ fn fire_grid_rays(
 }
 
 /// Add the findings of ray `index` (standing for `area`) to `sums`, and
-/// mark the regions it met in `seen`.
-fn gather(ray_check: &RayCheck, ray: &Ray, index: u64, area: f64, sums: &mut KindSums, seen: &Met) {
-    seen.mark(&ray_check.parts);
+/// mark the regions it met in `seen` (`None`: they are marked).
+fn gather(
+    ray_check: &RayCheck,
+    ray: &Ray,
+    index: u64,
+    area: f64,
+    sums: &mut KindSums,
+    seen: Option<&Met>,
+) {
+    if let Some(seen) = seen {
+        seen.mark(&ray_check.parts);
+    }
     for finding in &ray_check.findings {
         let length = finding.t1 - finding.t0;
         let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));

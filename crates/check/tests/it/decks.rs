@@ -52,6 +52,28 @@ fn generator_deck_overlaps_and_empty_regions() {
 }
 
 #[test]
+fn generator_regions_met_are_the_same_refined_or_not() {
+    // The refined check marks a grid ray's regions only where its
+    // signature differs from the ray's before it; ten regions here are
+    // met by no ray, so marking never stops early.
+    let Some(p) = deck("comgeom/mep021a-generator-v5.cg") else {
+        return;
+    };
+    let scene = load_file(&p, &LoadOptions::default()).unwrap().scene;
+    let (m, _) = Model::new(&scene, &UniverseChoice::Auto).unwrap();
+    let unseen = |refine| {
+        let opts = CheckOptions {
+            refine,
+            ..Default::default()
+        };
+        check(&m, &opts).unwrap().unseen
+    };
+    let refined = unseen(4);
+    assert!(refined.contains(&"282".to_string()), "{refined:?}");
+    assert_eq!(refined, unseen(0));
+}
+
+#[test]
 fn gift_sample_target_overlaps_only_its_air() {
     let Some(p) = deck("comgeom/gift-sample-target-v4.cg") else {
         return;

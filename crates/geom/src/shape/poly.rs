@@ -5,9 +5,19 @@
 //! found by safeguarded Newton–bisection started from the chord's zero.
 //! A quadratic's roots come in closed form.
 
-/// Evaluate `c[0] + c[1] t + … + c[n] tⁿ`.
+/// Evaluate `c[0] + c[1] t + … + c[n] tⁿ`. Cubics and quartics by
+/// Estrin's scheme: each Newton step waits on the value, and pairing the
+/// terms halves the chain of dependent operations that Horner's rule is.
 #[inline]
 fn eval(c: &[f64], t: f64) -> f64 {
+    if let [c0, c1, c2, c3, c4] = *c {
+        let t2 = t * t;
+        return (c0 + c1 * t) + ((c2 + c3 * t) + c4 * t2) * t2;
+    }
+    if let [c0, c1, c2, c3] = *c {
+        let t2 = t * t;
+        return (c0 + c1 * t) + (c2 + c3 * t) * t2;
+    }
     c.iter().rev().fold(0.0, |acc, &k| acc * t + k)
 }
 

@@ -207,9 +207,12 @@ fn refine_chunks(
             sigs,
             rays,
             (ray_check, bundle, plan.tolerance),
-            &mut |ray_check, ray, (id, grid_ray)| {
+            &mut |ray_check, ray, (id, grid_ray), as_an_end| {
                 let chunk_sums = &mut sums[(grid_ray / CHUNK - first) as usize];
-                gather(ray_check, ray, id, 0.0, chunk_sums, Some(seen));
+                // A ray that sees what an end of its piece sees meets
+                // regions that are marked (as a grid ray's, below).
+                let seen = (!as_an_end).then_some(seen);
+                gather(ray_check, ray, id, 0.0, chunk_sums, seen);
             },
         );
     }

@@ -145,8 +145,9 @@ pub(crate) struct Bundle {
 
 /// What a refinement hands on of each ray it fires: the partitions and
 /// findings of the check, the ray, its index and the grid ray its segment
-/// ends at.
-pub(crate) type Found<'a> = dyn FnMut(&RayCheck, &Ray, (u64, u64)) + 'a;
+/// ends at, and whether it sees what one of its piece's ends sees (so
+/// that the regions it meets were met before).
+pub(crate) type Found<'a> = dyn FnMut(&RayCheck, &Ray, (u64, u64), bool) + 'a;
 
 /// Grid rays whose signatures [`Refinement::segments`] compares with
 /// their neighbours' at once.
@@ -328,10 +329,16 @@ impl Refinement {
         for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {
             ray_check.run_on(parts, ray, 0.0, tmax, tol);
             let segment = &segments[piece.segment as usize];
-            found(ray_check, ray, (segment.id + piece.node, segment.grid_ray));
             let sig = signature(&ray_check.parts, tol);
-            let mid = (ray.origin[segment.w], sig);
             let [low, high] = piece.ends;
+            let as_an_end = sig == low.1 || sig == high.1;
+            found(
+                ray_check,
+                ray,
+                (segment.id + piece.node, segment.grid_ray),
+                as_an_end,
+            );
+            let mid = (ray.origin[segment.w], sig);
             if 64 - piece.node.leading_zeros() < self.levels {
                 for (half, ends) in [(0, [low, mid]), (1, [mid, high])] {
                     if ends[0].1 != ends[1].1 {

@@ -126,3 +126,23 @@ fn refined_checks_split_into_parts_merge_to_the_same_report() {
     assert_eq!(merged.to_json(), whole.to_json());
     assert!(whole.refine_rays > 0 && !whole.overlaps.is_empty());
 }
+
+/// A wire 0.08 across along the block's face x = 10, between the rays of
+/// every grid: only refinement rays meet it.
+const WIRE: &str = "
+BODY block RPP 0 10 0 10 0 10
+BODY wire RCC (10,5.06,0) (0,0,10) 0.04
+REGION BLOCK = +block
+REGION WIRE = +wire
+";
+
+#[test]
+fn a_region_met_by_refinement_rays_alone_is_met() {
+    // Refinement rays mark their regions only where they see other than
+    // both ends of their piece; the wire is such a case.
+    let m = model(WIRE, UniverseChoice::None);
+    let plain = check(&m, &grid(0)).unwrap();
+    assert_eq!(plain.unseen, ["WIRE".to_string()], "{}", plain.to_table());
+    let refined = check(&m, &grid(4)).unwrap();
+    assert!(refined.met_every_region(), "{}", refined.to_table());
+}

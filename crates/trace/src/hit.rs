@@ -2,6 +2,7 @@
 //! the per-thread working memory they reuse from ray to ray.
 
 use crate::bvh::Stack;
+use crate::packet::LaneCasts;
 use crate::prepare::Prepared;
 use sv_geom::boolean::{Bound, Span};
 use sv_geom::shape::Seg;
@@ -29,6 +30,8 @@ pub struct Scratch {
     /// The working memory of each sub-universe (filled regions), made on
     /// first use.
     pub(crate) subs: Vec<Option<Box<Scratch>>>,
+    /// The bodies cast in the lanes for the packet of rays under way.
+    pub(crate) lane_casts: LaneCasts,
 }
 
 impl Scratch {
@@ -45,6 +48,7 @@ impl Scratch {
             packet: 0,
             spares: Vec::new(),
             subs: Vec::new(),
+            lane_casts: LaneCasts::new(p),
         }
     }
 

@@ -30,7 +30,7 @@ use crate::hit::{Hit, Scratch};
 use crate::prepare::{Prepared, PreparedZone};
 use std::mem::MaybeUninit;
 use sv_geom::boolean::Bound;
-use sv_geom::shape::SegLanes;
+use sv_geom::shape::{SegLanes, Shape};
 use sv_math::lanes::{along, box_lanes, dot, not, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
@@ -643,7 +643,8 @@ impl Prepared {
         lo: S::F,
         hi: S::F,
     ) -> (SpanLanes<S>, S::M, S::M) {
-        let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
+        let mut none = LaneCasts::NONE;
+        let spans = self.zone_lanes_spans::<S, false>(s, z, r, m, lo, hi, &mut none);
         let (in_cur, in_next) = spans.within(s, lo, hi);
         (
             pick_span(s, in_next, spans.next, spans.cur),
@@ -658,9 +659,12 @@ impl Prepared {
     /// `-` bodies would leave more than two, or a faceted body more than
     /// one segment). Each step is
     /// [`Prepared::convex_spans`]' for one span and one segment, or the
-    /// lists' for two spans and one segment.
+    /// lists' for two spans and one segment. When `KEEP`, a body already
+    /// cast for the packet under way is taken from `held`, and one cast
+    /// is kept there.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn zone_lanes_spans<S: Simd>(
+    fn zone_lanes_spans<S: Simd, const KEEP: bool>(
         &self,
         s: S,
         z: &PreparedZone,
@@ -668,6 +672,7 @@ impl Prepared {
         m: S::M,
         lo: S::F,
         hi: S::F,
+        held: &mut LaneCasts,
     ) -> ZoneLanes<S> {
         let first = z.first as usize;
         let terms = &self.terms[first..first + z.plus as usize + z.minus as usize];
@@ -684,7 +689,7 @@ impl Prepared {
                 let bounds = &self.body_bounds[b as usize];
                 alive = s.and(alive, box_lanes(s, bounds, r, s.neg(inf), inf));
             }
-            let g = self.shapes[b as usize].shoot_lanes(s, r);
+            let g = cast_lanes::<S, KEEP>(s, held, b, &self.shapes[b as usize], r);
             more = s.or(more, s.and(alive, g.scalar));
             alive = s.and(alive, g.hit);
             let q = span(s, &g, b);
@@ -743,7 +748,7 @@ impl Prepared {
                 }
                 continue;
             }
-            let g = shape.shoot_lanes(s, r);
+            let g = cast_lanes::<S, KEEP>(s, held, b, shape, r);
             let scalar = s.and(mm, g.scalar);
             if s.any(scalar) {
                 more = s.or(more, scalar);
@@ -800,6 +805,158 @@ impl Prepared {
             two,
             more,
         }
+    }
+}
+
+/// Body `b` (shape `shape`) cast along the rays `r` of the packet under
+/// way: when `KEEP`, taken from `held` if it was cast for the packet
+/// already.
+#[inline(always)]
+fn cast_lanes<S: Simd, const KEEP: bool>(
+    s: S,
+    held: &mut LaneCasts,
+    b: u32,
+    shape: &Shape,
+    r: &Lanes<S>,
+) -> SegLanes<S> {
+    if KEEP {
+        held.cast(s, b, shape, r)
+    } else {
+        shape.shoot_lanes(s, r)
+    }
+}
+
+/// The bodies cast in the lanes for the packet under way, kept until the
+/// next: a body that several zones share (one region's `+` body is often
+/// subtracted from its neighbours) is cast once a packet, not once a zone.
+/// The same operations on the same rays, so the same segments to the bit.
+#[derive(Clone, Debug)]
+pub(crate) struct LaneCasts {
+    /// The packet under way, counted from 1 (0 marks a body cast for
+    /// none yet).
+    packet: u32,
+    /// Per body: the packet it was last cast for, and where in `casts`
+    /// ([`LaneCasts::ALONE`] for a body only one zone casts).
+    of_body: Vec<[u32; 2]>,
+    /// Per zone: whether it casts a body that another zone casts too.
+    shares: Vec<bool>,
+    casts: Vec<HeldCast>,
+    /// How many of `casts` the packet under way holds.
+    used: usize,
+}
+
+/// One body's segments in the lanes: entry, exit and their faces, and the
+/// lanes that meet it and those left to the scalar code.
+#[derive(Clone, Debug)]
+struct HeldCast {
+    ends: [[f64; MAX_LANES]; 4],
+    hit: u32,
+    scalar: u32,
+}
+
+impl LaneCasts {
+    /// Room for the casts of the bodies of `p` that zones cast in the
+    /// lanes share; the others are cast as they come.
+    pub(crate) fn new(p: &Prepared) -> LaneCasts {
+        let mut zones_of_body = vec![0u32; p.shapes.len()];
+        for z in p.zones.iter().filter(|z| z.lanes) {
+            let first = z.first as usize;
+            let terms = &p.terms[first..first + usize::from(z.plus) + usize::from(z.minus)];
+            for &b in terms {
+                zones_of_body[b as usize] += 1;
+            }
+        }
+        let of_body: Vec<[u32; 2]> = zones_of_body
+            .iter()
+            .map(|&zones| [if zones > 1 { 0 } else { Self::ALONE }, 0])
+            .collect();
+        let shares = p
+            .zones
+            .iter()
+            .map(|z| {
+                let first = z.first as usize;
+                let terms = &p.terms[first..first + usize::from(z.plus) + usize::from(z.minus)];
+                z.lanes && terms.iter().any(|&b| of_body[b as usize][0] != Self::ALONE)
+            })
+            .collect();
+        LaneCasts {
+            packet: 1,
+            of_body,
+            shares,
+            casts: Vec::new(),
+            used: 0,
+        }
+    }
+
+    /// None held, for the callers that keep no casts.
+    const NONE: LaneCasts = LaneCasts {
+        packet: 0,
+        of_body: Vec::new(),
+        shares: Vec::new(),
+        casts: Vec::new(),
+        used: 0,
+    };
+
+    /// The packet that marks a body only one zone casts in the lanes:
+    /// never kept.
+    const ALONE: u32 = u32::MAX;
+
+    /// Whether zone `zi` casts a body that another zone casts too.
+    #[inline(always)]
+    pub(crate) fn shares(&self, zi: u32) -> bool {
+        self.shares[zi as usize]
+    }
+
+    /// Forget the last packet's casts.
+    pub(crate) fn new_packet(&mut self) {
+        self.packet += 1;
+        if self.packet == Self::ALONE {
+            for of in &mut self.of_body {
+                if of[0] != Self::ALONE {
+                    of[0] = 0;
+                }
+            }
+            self.packet = 1;
+        }
+        self.used = 0;
+    }
+
+    /// [`Shape::shoot_lanes`] of body `b` (shape `shape`) along `r`, the
+    /// rays of the packet under way.
+    #[inline(always)]
+    fn cast<S: Simd>(&mut self, s: S, b: u32, shape: &Shape, r: &Lanes<S>) -> SegLanes<S> {
+        let [packet, at] = self.of_body[b as usize];
+        if packet == self.packet {
+            let held = &self.casts[at as usize];
+            return SegLanes {
+                t0: s.load(&held.ends[0]),
+                t1: s.load(&held.ends[1]),
+                f0: s.load(&held.ends[2]),
+                f1: s.load(&held.ends[3]),
+                hit: s.mask(held.hit),
+                scalar: s.mask(held.scalar),
+            };
+        }
+        let g = shape.shoot_lanes(s, r);
+        if packet == Self::ALONE {
+            return g;
+        }
+        if self.used == self.casts.len() {
+            self.casts.push(HeldCast {
+                ends: [[0.0; MAX_LANES]; 4],
+                hit: 0,
+                scalar: 0,
+            });
+        }
+        let held = &mut self.casts[self.used];
+        s.store(g.t0, &mut held.ends[0]);
+        s.store(g.t1, &mut held.ends[1]);
+        s.store(g.f0, &mut held.ends[2]);
+        s.store(g.f1, &mut held.ends[3]);
+        (held.hit, held.scalar) = (s.bits(g.hit), s.bits(g.scalar));
+        self.of_body[b as usize] = [self.packet, self.used as u32];
+        self.used += 1;
+        g
     }
 }
 

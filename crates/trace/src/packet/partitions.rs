@@ -94,6 +94,7 @@ impl Prepared {
         let mut held = HeldSpans::default();
         for (packet, parts) in rays.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
             let r = lanes_of(s, packet);
+            sc.lane_casts.new_packet();
             let active = (1u32 << packet.len()) - 1;
             parts.iter_mut().for_each(Vec::clear);
             for &zi in zones {
@@ -147,7 +148,14 @@ impl Prepared {
         held.hand_out::<BODIES>(parts);
         let mut one_by_one = met;
         if z.lanes && !z.is_filled() {
-            let spans = self.zone_lanes_spans(s, z, r, m, lo, hi);
+            // Only a zone that shares a body with another looks its
+            // bodies up: the look-ups would cost the others.
+            let casts = &mut sc.lane_casts;
+            let spans = if casts.shares(zi) {
+                self.zone_lanes_spans::<S, true>(s, z, r, m, lo, hi, casts)
+            } else {
+                self.zone_lanes_spans::<S, false>(s, z, r, m, lo, hi, casts)
+            };
             one_by_one = s.bits(spans.more);
             // A lane left to the scalar code gets its spans there only.
             let alive = s.andnot(spans.alive, spans.more);

@@ -153,6 +153,10 @@ pub(crate) type Found<'a> = dyn FnMut(&RayCheck, &Ray, (u64, u64), bool) + 'a;
 /// their neighbours' at once.
 const SCAN_BLOCK: usize = 8;
 
+/// Grid rays whose signatures [`Refinement::segments`] compares with
+/// their neighbours' as whole slices first.
+const LONG_BLOCK: usize = 64;
+
 /// Rays fired together by a refinement: as many as a packet of the grid's.
 const BUNDLE: usize = sv_math::lanes::MAX_LANES;
 
@@ -244,6 +248,19 @@ impl Refinement {
             let mut offset = 0;
             while offset < held.len() - back {
                 let index = run.rays.start + offset as u64;
+                // A long stretch of rays that all see what both their
+                // neighbours see is passed over by comparing whole slices
+                // (the library's comparison of memory, in wide vectors).
+                let long = offset + LONG_BLOCK;
+                if index > run.row_start && long <= held.len() - back {
+                    let here = &held[back + offset..back + long];
+                    let along = &held[back + offset - 1..back + long - 1];
+                    let across = &held[offset..long];
+                    if here == along && (run.across.is_none() || here == across) {
+                        offset = long;
+                        continue;
+                    }
+                }
                 // A block of rays that all see what both their neighbours
                 // see is passed over with one test.
                 if index > run.row_start && offset + SCAN_BLOCK <= held.len() - back {

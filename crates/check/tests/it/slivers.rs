@@ -146,3 +146,39 @@ fn a_region_met_by_refinement_rays_alone_is_met() {
     let refined = check(&m, &grid(4)).unwrap();
     assert!(refined.met_every_region(), "{}", refined.to_table());
 }
+
+/// A plate 0.05 thick and 0.3 wide lying in a block against its face
+/// y = 10, 200 long in x. The rays along z run in rows along x; those of
+/// the rows at y = 9.459 (in the block) and 10.459 (outside) see the same
+/// as their neighbours along the row but not as those across it, all
+/// along the plate, and the refinement between the two rows passes
+/// through it (y = 9.959). The other grids' rays pass beside it (z =
+/// 4.562 and 5.562 along y, 4.459 and 5.459 along x), and their
+/// refinement too.
+const LONG_SLIVER: &str = "
+BODY block RPP 0 200 0 10 0 11
+BODY plate RPP 0 200 9.95 10 4.9 5.2
+REGION BLOCK = +block
+REGION PLATE = +plate
+";
+
+#[test]
+fn refinement_follows_a_sliver_along_the_rows() {
+    let m = model(LONG_SLIVER, UniverseChoice::None);
+    let bounds = Some(Aabb::new(DVec3::ZERO, DVec3::new(200.0, 11.0, 11.0)));
+    let opts = |refine| CheckOptions {
+        spacing: Some(1.0),
+        bounds,
+        refine,
+        ..Default::default()
+    };
+    let plain = check(&m, &opts(0)).unwrap();
+    assert!(plain.overlaps.is_empty(), "{}", plain.to_table());
+    let refined = check(&m, &opts(4)).unwrap();
+    assert_eq!(refined.overlaps.len(), 1, "{}", refined.to_table());
+    // Each of the 200 columns along x refines between its two rows and
+    // meets the plate there, however long the stretches of rays that see
+    // what their neighbours along the row see.
+    let hits = refined.overlaps[0].problem.hits;
+    assert!(hits >= 200, "{hits} hits\n{}", refined.to_table());
+}

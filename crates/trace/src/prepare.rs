@@ -390,16 +390,22 @@ impl Prepared {
     }
 
     pub(crate) fn zone_contains(&self, z: &PreparedZone, p: DVec3) -> bool {
-        let t = &self.terms[z.first as usize..];
-        let (plus, minus) = t.split_at(z.plus as usize);
+        let (plus, minus) = self.zone_terms(z).split_at(z.plus as usize);
         let inside = |b: &u32| self.shapes[*b as usize].contains(p);
-        if !plus.iter().all(inside) || minus[..z.minus as usize].iter().any(inside) {
+        if !plus.iter().all(inside) || minus.iter().any(inside) {
             return false;
         }
         self.zone_groups(z).iter().all(|g| {
             let zones = &self.nested[g.first as usize..(g.first + g.count) as usize];
             zones.iter().any(|inner| self.zone_contains(inner, p)) != g.subtract
         })
+    }
+
+    /// The bodies of zone `z`: its `+` bodies, then its `-` bodies.
+    #[inline]
+    pub(crate) fn zone_terms(&self, z: &PreparedZone) -> &[u32] {
+        let first = z.first as usize;
+        &self.terms[first..first + usize::from(z.plus) + usize::from(z.minus)]
     }
 
     /// The groups of zone `z`.

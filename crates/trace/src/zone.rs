@@ -51,9 +51,7 @@ impl Prepared {
             s.cur.extend(spans(&s.segs[a..e], b).filter(keep));
             return !s.cur.is_empty();
         }
-        let terms =
-            &self.terms[z.first as usize..(z.first as usize + z.plus as usize + z.minus as usize)];
-        let (plus, minus) = terms.split_at(z.plus as usize);
+        let (plus, minus) = self.zone_terms(z).split_at(z.plus as usize);
         // The `-` bodies already applied to the spans in `s.cur`, if any.
         let mut done = None;
         if z.convex && !plus.is_empty() {

@@ -674,9 +674,7 @@ impl Prepared {
         hi: S::F,
         held: &mut LaneCasts,
     ) -> ZoneLanes<S> {
-        let first = z.first as usize;
-        let terms = &self.terms[first..first + z.plus as usize + z.minus as usize];
-        let (plus, minus) = terms.split_at(z.plus as usize);
+        let (plus, minus) = self.zone_terms(z).split_at(z.plus as usize);
         let tol = s.splat(self.tol);
         let mut alive = m;
         // The lanes left to the scalar code.
@@ -860,9 +858,7 @@ impl LaneCasts {
     pub(crate) fn new(p: &Prepared) -> LaneCasts {
         let mut zones_of_body = vec![0u32; p.shapes.len()];
         for z in p.zones.iter().filter(|z| z.lanes) {
-            let first = z.first as usize;
-            let terms = &p.terms[first..first + usize::from(z.plus) + usize::from(z.minus)];
-            for &b in terms {
+            for &b in p.zone_terms(z) {
                 zones_of_body[b as usize] += 1;
             }
         }
@@ -874,9 +870,8 @@ impl LaneCasts {
             .zones
             .iter()
             .map(|z| {
-                let first = z.first as usize;
-                let terms = &p.terms[first..first + usize::from(z.plus) + usize::from(z.minus)];
-                z.lanes && terms.iter().any(|&b| of_body[b as usize][0] != Self::ALONE)
+                let shared = |&b: &u32| of_body[b as usize][0] != Self::ALONE;
+                z.lanes && p.zone_terms(z).iter().any(shared)
             })
             .collect();
         LaneCasts {

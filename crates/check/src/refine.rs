@@ -150,12 +150,11 @@ pub(crate) struct Bundle {
 pub(crate) type Found<'a> = dyn FnMut(&RayCheck, &Ray, (u64, u64), bool) + 'a;
 
 /// Grid rays whose signatures [`Refinement::segments`] compares with
-/// their neighbours' at once.
-const SCAN_BLOCK: usize = 8;
-
-/// Grid rays whose signatures [`Refinement::segments`] compares with
-/// their neighbours' as whole slices first.
+/// their neighbours' at once: first this many,
 const LONG_BLOCK: usize = 64;
+
+/// then this many.
+const SCAN_BLOCK: usize = 8;
 
 /// Rays fired together by a refinement: as many as a packet of the grid's.
 const BUNDLE: usize = sv_math::lanes::MAX_LANES;
@@ -244,34 +243,30 @@ impl Refinement {
                 continue;
             };
             let back = back as usize;
-            let across_mask = if run.across.is_some() { u64::MAX } else { 0 };
+            // Whether the `width` rays from `offset` on all see what both
+            // their neighbours see, compared as whole slices (the
+            // library's comparison of memory, in wide vectors).
+            let alike = |offset: usize, width: usize| {
+                let end = offset + width;
+                let index = run.rays.start + offset as u64;
+                if index <= run.row_start || end > held.len() - back {
+                    return false;
+                }
+                let here = &held[back + offset..back + end];
+                here == &held[back + offset - 1..back + end - 1]
+                    && (run.across.is_none() || here == &held[offset..end])
+            };
             let mut offset = 0;
             while offset < held.len() - back {
                 let index = run.rays.start + offset as u64;
-                // A long stretch of rays that all see what both their
-                // neighbours see is passed over by comparing whole slices
-                // (the library's comparison of memory, in wide vectors).
-                let long = offset + LONG_BLOCK;
-                if index > run.row_start && long <= held.len() - back {
-                    let here = &held[back + offset..back + long];
-                    let along = &held[back + offset - 1..back + long - 1];
-                    let across = &held[offset..long];
-                    if here == along && (run.across.is_none() || here == across) {
-                        offset = long;
-                        continue;
-                    }
-                }
-                // A block of rays that all see what both their neighbours
-                // see is passed over with one test.
-                if index > run.row_start && offset + SCAN_BLOCK <= held.len() - back {
-                    let differ = (offset..offset + SCAN_BLOCK).fold(0, |differ, at| {
-                        let sig = held[back + at];
-                        differ | (sig ^ held[back + at - 1]) | ((sig ^ held[at]) & across_mask)
-                    });
-                    if differ == 0 {
-                        offset += SCAN_BLOCK;
-                        continue;
-                    }
+                // Most rays are passed over a long stretch at a time, then
+                // a short one nearer where neighbours differ.
+                if let Some(width) = [LONG_BLOCK, SCAN_BLOCK]
+                    .into_iter()
+                    .find(|&width| alike(offset, width))
+                {
+                    offset += width;
+                    continue;
                 }
                 let at = offset;
                 offset += 1;

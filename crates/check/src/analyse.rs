@@ -148,6 +148,18 @@ impl<'a> RayCheck<'a> {
         self.classify(ray, tmin, tmax, tol);
     }
 
+    /// [`RayCheck::run_on`] of a ray that meets no region, where that
+    /// finds nothing (the model has no universe whose voids it would
+    /// cross): false, and nothing done, where it may find something.
+    pub(crate) fn run_on_empty(&mut self) -> bool {
+        if self.model.hull.is_some() {
+            return false;
+        }
+        self.parts.clear();
+        self.findings.clear();
+        true
+    }
+
     /// The problems along the ray of the partitions in `self.parts`.
     fn classify(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
         let parts = &self.parts;

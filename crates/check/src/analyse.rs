@@ -148,6 +148,27 @@ impl<'a> RayCheck<'a> {
         self.classify(ray, tmin, tmax, tol);
     }
 
+    /// [`RayCheck::run_on`], unless `follows` (the last ray run on had the
+    /// same `(tmin, tmax)` and `tol`), the model has no universe, and the
+    /// ray's partitions are the last ray's after clipping, to the bit:
+    /// then its findings are the last ray's, and those are kept. True
+    /// when they are kept.
+    pub(crate) fn run_on_unless_repeated(
+        &mut self,
+        parts: &mut Vec<Partition>,
+        ray: &Ray,
+        (tmin, tmax, tol): (f64, f64, f64),
+        follows: bool,
+    ) -> bool {
+        // Clipping leaves clipped partitions as they are, so partitions
+        // equal to the last ray's clipped ones clip to them.
+        let repeated = follows && self.model.hull.is_none() && same_stretches(parts, &self.parts);
+        if !repeated {
+            self.run_on(parts, ray, tmin, tmax, tol);
+        }
+        repeated
+    }
+
     /// [`RayCheck::run_on`] of a ray that meets no region, where that
     /// finds nothing (the model has no universe whose voids it would
     /// cross): false, and nothing done, where it may find something.
@@ -285,6 +306,17 @@ impl RayCheck<'_> {
             t1,
         });
     }
+}
+
+/// Whether `a` and `b` hold the same regions over the same distances, to
+/// the bit: what a classification reads of them.
+fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(a, b)| {
+            a.region == b.region
+                && a.span.a.t.to_bits() == b.span.a.t.to_bits()
+                && a.span.b.t.to_bits() == b.span.b.t.to_bits()
+        })
 }
 
 fn neighbour_before(parts: &[Partition], t: f64, tol: f64) -> Option<u32> {

@@ -180,7 +180,7 @@ fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
     };
     let tolerance = plan.tolerance;
     let mut worker = Worker::new(model);
-    fire_grid_rays(model, plan, &mut worker, rays, |ray_check, _, _, _| {
+    fire_grid_rays(model, plan, &mut worker, rays, |ray_check, _, _, _, _| {
         sigs.sigs.push(signature(&ray_check.parts, tolerance));
     });
     sigs
@@ -355,21 +355,30 @@ fn fire_chunk(
     let rays = chunk * CHUNK..end.min(grid_rays);
     let mut sig_slots = sigs.iter_mut();
     let mut last_sig = None;
-    fire_grid_rays(model, plan, worker, rays, |ray_check, ray, at, area| {
-        let mut as_before = false;
-        if refining {
-            if let Some(slot) = sig_slots.next() {
-                let sig = signature(&ray_check.parts, tolerance);
-                *slot = sig;
-                as_before = last_sig.replace(sig) == Some(sig);
+    fire_grid_rays(
+        model,
+        plan,
+        worker,
+        rays,
+        |ray_check, ray, at, area, repeated| {
+            let mut as_before = repeated;
+            if refining {
+                if let Some(slot) = sig_slots.next() {
+                    let sig = match last_sig {
+                        Some(sig) if repeated => sig,
+                        _ => signature(&ray_check.parts, tolerance),
+                    };
+                    *slot = sig;
+                    as_before = last_sig.replace(sig) == Some(sig);
+                }
             }
-        }
-        // A ray with the signature of the one before it meets the regions
-        // that one met (but for a collision of 64-bit hashes, which the
-        // refinement relies on too), and they are marked.
-        let seen = (!as_before).then_some(seen);
-        gather(ray_check, ray, at, area, &mut sums, seen);
-    });
+            // A ray with the signature of the one before it meets the regions
+            // that one met (but for a collision of 64-bit hashes, which the
+            // refinement relies on too), and they are marked.
+            let seen = (!as_before).then_some(seen);
+            gather(ray_check, ray, at, area, &mut sums, seen);
+        },
+    );
     let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
     for random_index in randoms {
         let (lo, hi) = (checked_box.min, checked_box.max);
@@ -384,14 +393,16 @@ fn fire_chunk(
 }
 
 /// Fire the grid rays `rays` in packets along their rows, handing each,
-/// in order, to `each` with its index, the area it stands for and the
-/// partitions and findings of the worker's classification.
+/// in order, to `each` with its index, the area it stands for, the
+/// partitions and findings of the worker's classification, and whether
+/// they are the ray before's, kept (see
+/// [`RayCheck::run_on_unless_repeated`]).
 fn fire_grid_rays(
     model: &Model,
     plan: &Plan,
     worker: &mut Worker,
     rays: Range<u64>,
-    mut each: impl FnMut(&RayCheck, &Ray, u64, f64),
+    mut each: impl FnMut(&RayCheck, &Ray, u64, f64, bool),
 ) {
     let grid = &plan.grid;
     for run in grid.row_runs(rays.clone()) {
@@ -400,6 +411,8 @@ fn fire_grid_rays(
         let (first, t1, area) = grid.ray(run.rays.start);
         worker.rays.clear();
         worker.rays.resize(PACKET as usize, first);
+        // Whether the worker's last ray was one of this run's.
+        let mut follows = false;
         for start in run.rays.clone().step_by(PACKET as usize) {
             let packet = start..(start + PACKET).min(run.rays.end);
             let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
@@ -419,13 +432,19 @@ fn fire_grid_rays(
             let met_nothing = parts[..rays.len()].iter().all(Vec::is_empty);
             if met_nothing && ray_check.run_on_empty() {
                 for (at, ray) in packet.zip(rays.iter()) {
-                    each(ray_check, ray, at, area);
+                    each(ray_check, ray, at, area, false);
                 }
+                follows = true;
                 continue;
             }
+            // Where faces square to the rays cross a row (most of a boxy
+            // deck's), neighbouring rays see the same stretches to the
+            // bit, and one's findings are the other's.
             for (at, (ray, ray_parts)) in packet.zip(rays.iter().zip(parts.iter_mut())) {
-                ray_check.run_on(ray_parts, ray, 0.0, t1, plan.tolerance);
-                each(ray_check, ray, at, area);
+                let range = (0.0, t1, plan.tolerance);
+                let repeated = ray_check.run_on_unless_repeated(ray_parts, ray, range, follows);
+                each(ray_check, ray, at, area, repeated);
+                follows = true;
             }
         }
     }

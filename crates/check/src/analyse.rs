@@ -111,7 +111,9 @@ impl<'a> RayCheck<'a> {
     /// into the same places of `out`, several at once where the processor
     /// can: `zones` must hold every zone whose bounds any of them meets
     /// there; `None`, walk the hierarchy. Only the regions and distances
-    /// are kept: a check reads nothing else.
+    /// are kept: a check reads nothing else. Returns the rays (bit `k` for
+    /// ray `k`) whose partitions are the ray before's, to the bit, left
+    /// empty in `out` (see [`sv_trace::Prepared::stretches_of_rays_in`]).
     pub(crate) fn partitions_of_rays(
         &mut self,
         zones: Option<&[u32]>,
@@ -119,7 +121,7 @@ impl<'a> RayCheck<'a> {
         tmin: f64,
         tmax: f64,
         out: &mut [Vec<Partition>],
-    ) {
+    ) -> u64 {
         let prepared = &self.model.prepared;
         match zones {
             Some(zones) => prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out),
@@ -127,6 +129,7 @@ impl<'a> RayCheck<'a> {
                 for (ray, parts) in rays.iter().zip(out) {
                     prepared.partitions(ray, tmin, tmax, &mut self.s, parts);
                 }
+                0
             }
         }
     }
@@ -152,18 +155,23 @@ impl<'a> RayCheck<'a> {
     /// same `(tmin, tmax)` and `tol`), the model has no universe, and the
     /// ray's partitions are the last ray's after clipping, to the bit:
     /// then its findings are the last ray's, and those are kept. True
-    /// when they are kept.
+    /// when they are kept. With `as_last`, `parts` was left empty: the
+    /// ray's partitions are the last ray's (and `follows` must hold).
     pub(crate) fn run_on_unless_repeated(
         &mut self,
         parts: &mut Vec<Partition>,
         ray: &Ray,
         (tmin, tmax, tol): (f64, f64, f64),
-        follows: bool,
+        (follows, as_last): (bool, bool),
     ) -> bool {
         // Clipping leaves clipped partitions as they are, so partitions
         // equal to the last ray's clipped ones clip to them.
-        let repeated = follows && self.model.hull.is_none() && same_stretches(parts, &self.parts);
+        let no_universe = self.model.hull.is_none();
+        let repeated = no_universe && (as_last || follows && same_stretches(parts, &self.parts));
         if !repeated {
+            if as_last {
+                parts.clone_from(&self.parts);
+            }
             self.run_on(parts, ray, tmin, tmax, tol);
         }
         repeated

@@ -426,7 +426,7 @@ fn fire_grid_rays(
             for (ray, index) in rays.iter_mut().zip(packet.clone()) {
                 ray.origin[run.axes.0] = grid.along_row(&run, index);
             }
-            ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
+            let repeats = ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
             // Where a packet meets nothing (a third of some grids' packets)
             // its rays are not classified one by one.
             let met_nothing = parts[..rays.len()].iter().all(Vec::is_empty);
@@ -440,9 +440,12 @@ fn fire_grid_rays(
             // Where faces square to the rays cross a row (most of a boxy
             // deck's), neighbouring rays see the same stretches to the
             // bit, and one's findings are the other's.
-            for (at, (ray, ray_parts)) in packet.zip(rays.iter().zip(parts.iter_mut())) {
+            let lanes = packet.zip(rays.iter().zip(parts.iter_mut()));
+            for (lane, (at, (ray, ray_parts))) in lanes.enumerate() {
                 let range = (0.0, t1, plan.tolerance);
-                let repeated = ray_check.run_on_unless_repeated(ray_parts, ray, range, follows);
+                let as_last = repeats >> lane & 1 != 0;
+                let repeated =
+                    ray_check.run_on_unless_repeated(ray_parts, ray, range, (follows, as_last));
                 each(ray_check, ray, at, area, repeated);
                 follows = true;
             }

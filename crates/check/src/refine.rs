@@ -337,7 +337,15 @@ impl Refinement {
             .parts
             .resize_with(pieces.len().max(bundle.parts.len()), Vec::new);
         let zones = zones.map(|range| &bundle.zones[range]);
-        ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, &mut bundle.parts);
+        let parts = &mut bundle.parts;
+        let repeats = ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, parts);
+        // The lists left as the ray before's are copied.
+        for k in 1..pieces.len() {
+            if repeats >> k & 1 != 0 {
+                let (before, from_k) = parts.split_at_mut(k);
+                from_k[0].clone_from(&before[k - 1]);
+            }
+        }
         for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {
             ray_check.run_on(parts, ray, 0.0, tmax, tol);
             let segment = &segments[piece.segment as usize];

@@ -16,7 +16,7 @@ use sv_math::Ray;
 
 /// [`partitions_any`] or [`stretches_any`].
 type PacketsOfRays =
-    fn(&Prepared, &[u32], &[Ray], f64, f64, &mut Scratch, &mut [Vec<Partition>]) -> Option<()>;
+    fn(&Prepared, &[u32], &[Ray], f64, f64, &mut Scratch, &mut [Vec<Partition>]) -> Option<u64>;
 
 impl Prepared {
     /// [`Prepared::partitions_in`] for each of `rays`, into the same
@@ -33,6 +33,7 @@ impl Prepared {
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) {
+        // Partitions with their bodies are never left as the ray before's.
         self.partitions_of_rays_with(partitions_any, zones, rays, (tmin, tmax), s, out);
     }
 
@@ -41,6 +42,11 @@ impl Prepared {
     /// distances, bit for bit, but the ends' bodies and faces are not
     /// kept where the lanes made a stretch (they read 0 there), which
     /// spares the packets carrying them.
+    ///
+    /// Returns the rays (bit `k` for ray `k`, of the first 64) whose
+    /// stretches are those of the ray before them, to the bit: their
+    /// lists in `out` are left empty. Neighbouring rays of a row often
+    /// cross the same faces, square to them, at the same distances.
     pub fn stretches_of_rays_in(
         &self,
         zones: &[u32],
@@ -49,12 +55,14 @@ impl Prepared {
         tmax: f64,
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
-    ) {
-        self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out);
+    ) -> u64 {
+        self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out)
     }
 
     /// The partitions of `rays` by `packets` where the processor has
-    /// vector instructions for it, else ray by ray.
+    /// vector instructions for it, else ray by ray; and the rays whose
+    /// stretches were left as the ray before's (see
+    /// [`Prepared::stretches_of_rays_in`]).
     fn partitions_of_rays_with(
         &self,
         packets: PacketsOfRays,
@@ -63,22 +71,24 @@ impl Prepared {
         (tmin, tmax): (f64, f64),
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
-    ) {
+    ) -> u64 {
         assert!(
             out.len() >= rays.len(),
             "a list of partitions for every ray"
         );
-        if packets(self, zones, rays, tmin, tmax, s, out).is_some() {
-            return;
+        if let Some(repeats) = packets(self, zones, rays, tmin, tmax, s, out) {
+            return repeats;
         }
         for (ray, parts) in rays.iter().zip(out) {
             self.partitions_in(zones, ray, tmin, tmax, s, parts);
         }
+        0
     }
 
     /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays
     /// when `BODIES`, else [`Prepared::stretches_of_rays_in`]: the ends'
-    /// bodies and faces are kept only when `BODIES`.
+    /// bodies and faces are kept only when `BODIES`, and rays' stretches
+    /// are left as the ray before's only when not.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn packet_partitions<S: Simd, const BODIES: bool>(
@@ -90,13 +100,24 @@ impl Prepared {
         tmax: f64,
         sc: &mut Scratch,
         out: &mut [Vec<Partition>],
-    ) {
+    ) -> u64 {
         let mut held = HeldSpans::default();
-        for (packet, parts) in rays.chunks(S::LANES).zip(out.chunks_mut(S::LANES)) {
+        let mut repeats = 0;
+        for (at, (packet, parts)) in rays
+            .chunks(S::LANES)
+            .zip(out.chunks_mut(S::LANES))
+            .enumerate()
+        {
             let r = lanes_of(s, packet);
             sc.lane_casts.new_packet();
             let active = (1u32 << packet.len()) - 1;
             parts.iter_mut().for_each(Vec::clear);
+            // Every lane but the first sees what the lane before it sees
+            // until a zone tells them apart (only the first 64 rays can be
+            // answered so).
+            let answered = (at + 1) * S::LANES <= 64;
+            held.alike = if BODIES || !answered { 0 } else { active & !1 };
+            held.filling = false;
             for &zi in zones {
                 let rays = (&r, packet);
                 self.tag_zone_lanes::<S, BODIES>(
@@ -111,10 +132,17 @@ impl Prepared {
                 );
             }
             held.hand_out::<BODIES>(parts);
-            for lane in parts.iter_mut() {
-                self.union_in_place(lane);
+            let mut made = active & !held.alike;
+            while made != 0 {
+                let j = made.trailing_zeros() as usize;
+                made &= made - 1;
+                self.union_in_place(&mut parts[j]);
+            }
+            if held.alike != 0 {
+                repeats |= u64::from(held.alike) << (at * S::LANES);
             }
         }
+        repeats
     }
 
     /// The spans of zone `zi` along the rays of the lanes of `active`
@@ -168,6 +196,8 @@ impl Prepared {
         if one_by_one == 0 {
             return;
         }
+        // The lanes' stretches are all made from here on.
+        held.make_alike(parts);
         for (j, (ray, lane)) in rays.iter().zip(parts.iter_mut()).enumerate() {
             if one_by_one & (1 << j) == 0 {
                 continue;
@@ -185,6 +215,11 @@ impl Prepared {
 /// The spans a zone left in the lanes, held lane by lane until they are
 /// handed out to the lanes' lists: read back at once, the values just
 /// stored from the vectors would wait for the stores to reach the cache.
+///
+/// A lane that has met the same spans as the lane before it, to the bit,
+/// is not handed them: its list is not made (it would be the same) until
+/// a zone tells the two apart, when it starts as a copy of the list of the
+/// lane it matched, as it stood.
 #[derive(Default)]
 struct HeldSpans {
     region: u32,
@@ -194,6 +229,11 @@ struct HeldSpans {
     /// The two spans' ends: distance, body and face of each end.
     cur: [[f64; MAX_LANES]; 6],
     next: [[f64; MAX_LANES]; 6],
+    /// The lanes whose lists are not made: each has met what the lane
+    /// before it met.
+    alike: u32,
+    /// Whether any list of the packet holds something.
+    filling: bool,
 }
 
 impl HeldSpans {
@@ -222,7 +262,11 @@ impl HeldSpans {
         if first | second == 0 {
             return;
         }
-        let mut lanes = first | second;
+        if self.alike != 0 {
+            self.part_lanes(parts);
+        }
+        let mut lanes = (first | second) & !self.alike;
+        self.filling |= lanes != 0;
         while lanes != 0 {
             let j = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
@@ -237,6 +281,62 @@ impl HeldSpans {
             }
         }
         (self.first, self.second) = (0, 0);
+    }
+
+    /// Make the lists of the lanes not made whose spans held differ from
+    /// the lane before's, before those are handed out.
+    #[inline(always)]
+    fn part_lanes(&mut self, parts: &mut [Vec<Partition>]) {
+        let (first, second) = (self.first, self.second);
+        let bit = |lanes: u32, k: usize| lanes >> k & 1;
+        let same = |ends: &[[f64; MAX_LANES]; 6], j: usize| {
+            ends[0][j].to_bits() == ends[0][j - 1].to_bits()
+                && ends[3][j].to_bits() == ends[3][j - 1].to_bits()
+        };
+        let mut apart = 0;
+        let mut lanes = self.alike;
+        while lanes != 0 {
+            let j = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let alike = bit(first, j) == bit(first, j - 1)
+                && bit(second, j) == bit(second, j - 1)
+                && (bit(first, j) == 0 || same(&self.cur, j))
+                && (bit(second, j) == 0 || same(&self.next, j));
+            if !alike {
+                apart |= 1 << j;
+            }
+        }
+        self.make(apart, parts);
+    }
+
+    /// Make the lists of the lanes of `lanes` (of those not made): each a
+    /// copy of the list of the nearest lane before it that is made.
+    #[inline(always)]
+    fn make(&mut self, mut lanes: u32, parts: &mut [Vec<Partition>]) {
+        if !self.filling {
+            self.alike &= !lanes;
+            return;
+        }
+        while lanes != 0 {
+            let j = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let made_before = !self.alike & ((1 << j) - 1);
+            let from = 31 - made_before.leading_zeros() as usize;
+            // A lane not made holds nothing: only a list with something
+            // in it is copied.
+            let (before, after) = parts.split_at_mut(j);
+            if !before[from].is_empty() {
+                after[0].extend_from_slice(&before[from]);
+            }
+            self.alike &= !(1 << j);
+        }
+    }
+
+    /// Make every lane's list as it stands: spans made one by one are
+    /// about to be added to some.
+    #[inline(always)]
+    fn make_alike(&mut self, parts: &mut [Vec<Partition>]) {
+        self.make(self.alike, parts);
     }
 }
 
@@ -281,7 +381,7 @@ compiled_for_each! {
         tmax: f64,
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
-    )
+    ) -> u64
 }
 
 compiled_for_each! {
@@ -292,5 +392,5 @@ compiled_for_each! {
         tmax: f64,
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
-    )
+    ) -> u64
 }

@@ -24,10 +24,28 @@ fn same_parts(a: &[Partition], b: &[Partition]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
 }
 
+/// The stretches of the rays of `repeats` (bit `k` for ray `k`), left
+/// empty as those of the ray before: copied from it. Fails where one was
+/// not left empty.
+fn repeat(out: &mut [Vec<Partition>], repeats: u64) -> usize {
+    for k in 0..out.len().min(64) {
+        if repeats >> k & 1 != 0 {
+            assert!(
+                out[k].is_empty(),
+                "ray {k} left as the one before, but made"
+            );
+            out[k] = out[k - 1].clone();
+        }
+    }
+    repeats.count_ones() as usize
+}
+
 #[test]
 fn packets_give_the_partitions_of_rays_traced_one_by_one() {
     let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
     let (mut stretches, mut two_or_more) = (0, 0);
+    // Rays whose stretches the packets left as the ray before's.
+    let repeated = std::cell::Cell::new(0);
     for i in 0..31 {
         let g = geometry(&mut rng, i % 2 == 0 || i >= 8, (i >= 8).then(|| i - 8));
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
@@ -71,19 +89,47 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 }
             });
             check("four portable lanes", &mut |o| {
-                p.packet_partitions::<_, true>(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+                let repeats = p.packet_partitions::<_, true>(
+                    Portable::<4>,
+                    &all,
+                    &rays,
+                    tmin,
+                    tmax,
+                    &mut s,
+                    o,
+                );
+                assert_eq!(repeats, 0, "partitions with bodies are all made");
             });
             check("eight portable lanes", &mut |o| {
-                p.packet_partitions::<_, true>(Portable::<8>, &all, &rays, tmin, tmax, &mut s, o)
+                let repeats = p.packet_partitions::<_, true>(
+                    Portable::<8>,
+                    &all,
+                    &rays,
+                    tmin,
+                    tmax,
+                    &mut s,
+                    o,
+                );
+                assert_eq!(repeats, 0, "partitions with bodies are all made");
             });
             check("the widest here", &mut |o| {
                 p.partitions_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
             });
             check_stretches("stretches, four portable lanes", &mut |o| {
-                p.packet_partitions::<_, false>(Portable::<4>, &all, &rays, tmin, tmax, &mut s, o)
+                let repeats = p.packet_partitions::<_, false>(
+                    Portable::<4>,
+                    &all,
+                    &rays,
+                    tmin,
+                    tmax,
+                    &mut s,
+                    o,
+                );
+                repeated.set(repeated.get() + repeat(o, repeats));
             });
             check_stretches("stretches, the widest here", &mut |o| {
-                p.stretches_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
+                let repeats = p.stretches_of_rays_in(&all, &rays, tmin, tmax, &mut s, o);
+                repeated.set(repeated.get() + repeat(o, repeats));
             });
             #[cfg(target_arch = "x86_64")]
             {
@@ -91,23 +137,28 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 // there.
                 if let Some(t) = sv_math::simd::Avx512::detect() {
                     check("AVX-512", &mut |o| unsafe {
-                        partitions_avx512(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                        partitions_avx512(&p, t, &all, &rays, tmin, tmax, &mut s, o);
                     });
                 }
                 if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("AVX2", &mut |o| unsafe {
-                        partitions_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                        partitions_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o);
                     });
-                    check_stretches("stretches, AVX2", &mut |o| unsafe {
-                        stretches_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o)
+                    check_stretches("stretches, AVX2", &mut |o| {
+                        // SAFETY: as above.
+                        let repeats =
+                            unsafe { stretches_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o) };
+                        repeated.set(repeated.get() + repeat(o, repeats));
                     });
                 }
             }
         }
     }
-    // Many rays crossed stretches, many of them several.
+    // Many rays crossed stretches, many of them several, and many saw
+    // what the ray before saw.
     assert!(
-        stretches > 20_000 && two_or_more > 2_000,
-        "{stretches} {two_or_more}"
+        stretches > 20_000 && two_or_more > 2_000 && repeated.get() > 1_000,
+        "{stretches} {two_or_more} {}",
+        repeated.get()
     );
 }

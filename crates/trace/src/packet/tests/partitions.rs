@@ -24,6 +24,19 @@ fn same_parts(a: &[Partition], b: &[Partition]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
 }
 
+/// [`Prepared::packet_partitions`] with bodies of a batch (zones, rays
+/// and range) in the lanes of `s`: none is left as the ray before's.
+fn with_bodies<S: Simd>(
+    s: S,
+    p: &Prepared,
+    (zones, rays, tmin, tmax): (&[u32], &[Ray], f64, f64),
+    sc: &mut Scratch,
+    out: &mut [Vec<Partition>],
+) {
+    let repeats = p.packet_partitions::<S, true>(s, zones, rays, tmin, tmax, sc, out);
+    assert_eq!(repeats, 0, "partitions with bodies are all made");
+}
+
 /// The stretches of the rays of `repeats` (bit `k` for ray `k`), left
 /// empty as those of the ray before: copied from it. Fails where one was
 /// not left empty.
@@ -88,38 +101,22 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                     p.partitions_in(&all, ray, tmin, tmax, &mut s, parts);
                 }
             });
+            let batch = (&all[..], &rays[..], tmin, tmax);
             check("four portable lanes", &mut |o| {
-                let repeats = p.packet_partitions::<_, true>(
-                    Portable::<4>,
-                    &all,
-                    &rays,
-                    tmin,
-                    tmax,
-                    &mut s,
-                    o,
-                );
-                assert_eq!(repeats, 0, "partitions with bodies are all made");
+                with_bodies(Portable::<4>, &p, batch, &mut s, o)
             });
             check("eight portable lanes", &mut |o| {
-                let repeats = p.packet_partitions::<_, true>(
-                    Portable::<8>,
-                    &all,
-                    &rays,
-                    tmin,
-                    tmax,
-                    &mut s,
-                    o,
-                );
-                assert_eq!(repeats, 0, "partitions with bodies are all made");
+                with_bodies(Portable::<8>, &p, batch, &mut s, o)
             });
             check("the widest here", &mut |o| {
                 p.partitions_of_rays_in(&all, &rays, tmin, tmax, &mut s, o)
             });
             check_stretches("stretches, four portable lanes", &mut |o| {
+                let (zones, rays, tmin, tmax) = batch;
                 let repeats = p.packet_partitions::<_, false>(
                     Portable::<4>,
-                    &all,
-                    &rays,
+                    zones,
+                    rays,
                     tmin,
                     tmax,
                     &mut s,

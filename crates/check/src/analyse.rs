@@ -156,7 +156,8 @@ impl<'a> RayCheck<'a> {
     /// ray's partitions are the last ray's after clipping, to the bit:
     /// then its findings are the last ray's, and those are kept. True
     /// when they are kept. With `as_last`, `parts` was left empty: the
-    /// ray's partitions are the last ray's (and `follows` must hold).
+    /// ray's partitions are the last ray's, which had the same range and
+    /// tolerance (`follows` is then not read).
     pub(crate) fn run_on_unless_repeated(
         &mut self,
         parts: &mut Vec<Partition>,

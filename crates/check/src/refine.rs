@@ -339,17 +339,20 @@ impl Refinement {
         let zones = zones.map(|range| &bundle.zones[range]);
         let parts = &mut bundle.parts;
         let repeats = ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, parts);
-        // The lists left as the ray before's are copied.
-        for k in 1..pieces.len() {
-            if repeats >> k & 1 != 0 {
-                let (before, from_k) = parts.split_at_mut(k);
-                from_k[0].clone_from(&before[k - 1]);
-            }
-        }
-        for ((piece, ray), parts) in pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts) {
-            ray_check.run_on(parts, ray, 0.0, tmax, tol);
+        let mut last_sig = 0;
+        let lanes = pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts);
+        for (lane, ((piece, ray), parts)) in lanes.enumerate() {
+            // A ray whose stretches the packet left as the ray before's
+            // keeps that ray's findings and signature.
+            let as_last = (false, repeats >> lane & 1 != 0);
+            let repeated = ray_check.run_on_unless_repeated(parts, ray, (0.0, tmax, tol), as_last);
             let segment = &segments[piece.segment as usize];
-            let sig = signature(&ray_check.parts, tol);
+            let sig = if repeated {
+                last_sig
+            } else {
+                signature(&ray_check.parts, tol)
+            };
+            last_sig = sig;
             let [low, high] = piece.ends;
             let as_an_end = sig == low.1 || sig == high.1;
             found(

@@ -135,9 +135,13 @@ impl ZoneBuilder<'_> {
             }
         }
         let convex = groups.is_empty() && plus.iter().all(|&b| self.shapes[b as usize].is_convex());
+        // A lone torus is cast in the lanes by the zone itself, which
+        // takes both its segments.
+        let lone_torus =
+            matches!(plus[..], [b] if matches!(self.shapes[b as usize], Shape::Torus(_)));
         let lanes = groups.is_empty()
             && !plus.is_empty()
-            && plus.iter().all(|&b| self.shapes[b as usize].has_lanes());
+            && (lone_torus || plus.iter().all(|&b| self.shapes[b as usize].has_lanes()));
         let first = self.layout.terms.len() as u32;
         self.layout.terms.extend(&plus);
         self.layout.terms.extend(&minus);

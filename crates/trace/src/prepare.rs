@@ -61,9 +61,10 @@ pub(crate) struct PreparedZone {
     /// convex where its `+` bodies give one segment each).
     pub convex: bool,
     /// It has `+` bodies and no groups, and the packet tracer casts every
-    /// `+` body in vector lanes ([`Shape::has_lanes`]): a packet evaluates
-    /// the zone for all its rays at once, but for the rays that meet the
-    /// box of a `-` body it cannot cast.
+    /// `+` body in vector lanes ([`Shape::has_lanes`]), or its one `+`
+    /// body is a torus (whose two segments the zone takes in the lanes):
+    /// a packet evaluates the zone for all its rays at once, but for the
+    /// rays that meet the box of a `-` body it cannot cast.
     pub lanes: bool,
 }
 

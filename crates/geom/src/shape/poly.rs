@@ -5,6 +5,9 @@
 //! found by safeguarded Newton–bisection started from the chord's zero.
 //! A quadratic's roots come in closed form.
 
+use sv_math::lanes::not;
+use sv_math::simd::Simd;
+
 /// Evaluate `c[0] + c[1] t + … + c[n] tⁿ`. Cubics and quartics by
 /// Estrin's scheme: each Newton step waits on the value, and pairing the
 /// terms halves the chain of dependent operations that Horner's rule is.
@@ -179,6 +182,255 @@ fn monotone_root<const N: usize, const M: usize>(
         t = next;
     }
     t
+}
+
+/// [`roots_in`] over `[0, hi]` in every lane of `m`, operation for
+/// operation, for quartics whose leading coefficient `c[4]` is not zero
+/// (the torus's is one): the roots, ascending, and how many each lane has
+/// (a whole number in `f64`). Where [`roots_in`] branches, the lanes take
+/// both ways and each lane keeps its own; a piece's search runs while any
+/// lane still needs it.
+#[inline(always)]
+pub(crate) fn quartic_roots_lanes<S: Simd>(
+    s: S,
+    c: [S::F; 5],
+    hi: S::F,
+    m: S::M,
+) -> ([S::F; 4], S::F) {
+    let zero = s.splat(0.0);
+    // The derivatives' coefficients, `c[i + 1] * (i + 1)` as `roots_by_pieces` has them.
+    let mut d = [zero; 4];
+    for (i, d) in d.iter_mut().enumerate() {
+        *d = s.mul(c[i + 1], s.splat((i + 1) as f64));
+    }
+    let mut dd = [zero; 3];
+    for (i, dd) in dd.iter_mut().enumerate() {
+        *dd = s.mul(d[i + 1], s.splat((i + 1) as f64));
+    }
+    // The critical points of the derivative, in closed form.
+    let mut inflections = Pushed::new(s);
+    quadratic_roots_lanes(s, dd, hi, m, &mut inflections);
+    // The critical points of the quartic: the roots of its derivative.
+    let mut critical = Pushed::new(s);
+    roots_by_pieces_lanes(
+        s,
+        (&d, &dd),
+        (zero, hi),
+        (&inflections, 3),
+        m,
+        &mut critical,
+    );
+    let mut roots = Pushed::new(s);
+    roots_by_pieces_lanes(s, (&c, &d), (zero, hi), (&critical, 5), m, &mut roots);
+    (roots.out, roots.n)
+}
+
+/// Values pushed lane by lane: the first four, how many, and the last.
+struct Pushed<S: Simd> {
+    out: [S::F; 4],
+    n: S::F,
+    last: S::F,
+}
+
+impl<S: Simd> Pushed<S> {
+    #[inline(always)]
+    fn new(s: S) -> Pushed<S> {
+        let zero = s.splat(0.0);
+        Pushed {
+            out: [zero; 4],
+            n: zero,
+            last: zero,
+        }
+    }
+
+    /// Push `value` in the lanes of `m` that hold fewer than four.
+    #[inline(always)]
+    fn push(&mut self, s: S, m: S::M, value: S::F) {
+        for (k, out) in self.out.iter_mut().enumerate() {
+            *out = s.select(s.and(m, s.eq(self.n, s.splat(k as f64))), value, *out);
+        }
+        self.n = s.select(m, s.add(self.n, s.splat(1.0)), self.n);
+        self.last = s.select(m, value, self.last);
+    }
+
+    /// The lanes with nothing pushed or whose last value is not `value`:
+    /// where pushing `value` adds a root, not the last again.
+    #[inline(always)]
+    fn new_value(&self, s: S, value: S::F) -> S::M {
+        s.or(s.eq(self.n, s.splat(0.0)), not(s, s.eq(self.last, value)))
+    }
+}
+
+/// [`eval`] in every lane, operation for operation.
+#[inline(always)]
+fn eval_lanes<S: Simd, const N: usize>(s: S, c: &[S::F; N], t: S::F) -> S::F {
+    let t2 = s.mul(t, t);
+    match N {
+        5 => s.add(
+            s.add(c[0], s.mul(c[1], t)),
+            s.mul(s.add(s.add(c[2], s.mul(c[3], t)), s.mul(c[4], t2)), t2),
+        ),
+        4 => s.add(
+            s.add(c[0], s.mul(c[1], t)),
+            s.mul(s.add(c[2], s.mul(c[3], t)), t2),
+        ),
+        _ => {
+            let mut acc = s.splat(0.0);
+            for &k in c.iter().rev() {
+                acc = s.add(s.mul(acc, t), k);
+            }
+            acc
+        }
+    }
+}
+
+/// Lanes whose value is not a number.
+#[inline(always)]
+pub(crate) fn nan_lanes<S: Simd>(s: S, x: S::F) -> S::M {
+    not(s, s.eq(x, x))
+}
+
+/// `f64::min` in every lane: a number beats one that is not.
+#[inline(always)]
+pub(crate) fn min_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
+    s.select(
+        nan_lanes(s, x),
+        y,
+        s.select(nan_lanes(s, y), x, s.min(x, y)),
+    )
+}
+
+/// `f64::max` in every lane: a number beats one that is not.
+#[inline(always)]
+pub(crate) fn max_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
+    s.select(
+        nan_lanes(s, x),
+        y,
+        s.select(nan_lanes(s, y), x, s.max(x, y)),
+    )
+}
+
+/// [`quadratic_roots_in`] over `[0, hi]` in every lane of `m`, for
+/// quadratics whose `c[2]` is not zero, pushed to `out`.
+#[inline(always)]
+fn quadratic_roots_lanes<S: Simd>(s: S, c: [S::F; 3], hi: S::F, m: S::M, out: &mut Pushed<S>) {
+    let zero = s.splat(0.0);
+    let discriminant = s.sub(s.mul(c[1], c[1]), s.mul(s.mul(s.splat(4.0), c[2]), c[0]));
+    let m = s.andnot(m, s.lt(discriminant, zero));
+    let q = s.mul(
+        s.splat(-0.5),
+        s.add(c[1], s.copysign(s.sqrt(discriminant), c[1])),
+    );
+    let double = s.eq(q, zero);
+    let (x, y) = (s.div(q, c[2]), s.div(c[0], q));
+    let r0 = s.select(double, zero, min_num(s, x, y));
+    let r1 = s.select(double, zero, max_num(s, x, y));
+    for r in [r0, r1] {
+        let fits = s.and(s.ge(r, zero), s.le(r, hi));
+        out.push(s, s.and(s.and(m, fits), out.new_value(s, r)), r);
+    }
+}
+
+/// [`roots_by_pieces`] in every lane of `m`: the roots of `c` (`N`
+/// coefficients, the last not zero; `d` its derivative) in `lo..hi`, one
+/// from each monotonic piece between the critical points `crit` (at most
+/// `pieces - 1`), pushed to `out`.
+#[inline(always)]
+fn roots_by_pieces_lanes<S: Simd, const N: usize, const M: usize>(
+    s: S,
+    (c, d): (&[S::F; N], &[S::F; M]),
+    (lo, hi): (S::F, S::F),
+    (crit, pieces): (&Pushed<S>, usize),
+    m: S::M,
+    out: &mut Pushed<S>,
+) {
+    let (zero, one, four) = (s.splat(0.0), s.splat(1.0), s.splat(4.0));
+    let mut a = lo;
+    let mut fa = eval_lanes(s, c, a);
+    for k in 0..pieces {
+        let place = s.splat(k as f64);
+        // The lanes with a piece `k`, and where it ends.
+        let here = s.and(m, s.le(place, crit.n));
+        if !s.any(here) {
+            break;
+        }
+        let b = if k < 4 {
+            s.select(s.lt(place, crit.n), crit.out[k], hi)
+        } else {
+            hi
+        };
+        let fb = eval_lanes(s, c, b);
+        let at_a = s.and(here, s.eq(fa, zero));
+        out.push(s, s.and(at_a, out.new_value(s, a)), a);
+        // `signum` differs: either is not a number, or their signs do.
+        let signs = not(s, s.eq(s.copysign(one, fa), s.copysign(one, fb)));
+        let differ = s.or(s.or(nan_lanes(s, fa), nan_lanes(s, fb)), signs);
+        let search = s.and(s.andnot(here, at_a), s.and(differ, s.lt(out.n, four)));
+        if s.any(search) {
+            let root = monotone_root_lanes(s, (c, d), (a, b), (fa, fb), PRECISIONS[N - 4], search);
+            out.push(s, search, root);
+        }
+        a = s.select(here, b, a);
+        fa = s.select(here, fb, fa);
+    }
+    let at_end = s.and(s.and(m, s.eq(fa, zero)), s.lt(out.n, four));
+    out.push(s, s.and(at_end, out.new_value(s, a)), a);
+}
+
+/// The precision [`roots_to`] is given for a cubic (the quartic's
+/// critical points) and for a quartic (its roots), by `N - 4`.
+const PRECISIONS: [f64; 2] = [CRITICAL_PRECISION, ROOT_PRECISION];
+
+/// [`monotone_root`] in every lane of `m`, each lane stopping where the
+/// scalar search would.
+#[inline(always)]
+fn monotone_root_lanes<S: Simd, const N: usize, const M: usize>(
+    s: S,
+    (c, d): (&[S::F; N], &[S::F; M]),
+    (mut a, mut b): (S::F, S::F),
+    (fa, fb): (S::F, S::F),
+    precision: f64,
+    m: S::M,
+) -> S::F {
+    let (zero, half, one) = (s.splat(0.0), s.splat(0.5), s.splat(1.0));
+    let rising = s.lt(fa, zero);
+    let chord = s.sub(a, s.div(s.mul(fa, s.sub(b, a)), s.sub(fb, fa)));
+    let inside = s.and(s.gt(chord, a), s.lt(chord, b));
+    let mut t = s.select(inside, chord, s.mul(half, s.add(a, b)));
+    let mut root = t;
+    let mut running = m;
+    for _ in 0..100 {
+        if !s.any(running) {
+            break;
+        }
+        let f = eval_lanes(s, c, t);
+        let on = s.eq(f, zero);
+        root = s.select(s.and(running, on), t, root);
+        running = s.andnot(running, on);
+        // `(f < 0) == rising`: the root lies beyond `t`.
+        let below = s.lt(f, zero);
+        let beyond = s.or(s.and(below, rising), s.andnot(not(s, below), rising));
+        a = s.select(s.and(running, beyond), t, a);
+        b = s.select(s.andnot(running, beyond), t, b);
+        let df = eval_lanes(s, d, t);
+        let nt = s.sub(t, s.div(f, df));
+        let tolerance = s.mul(s.splat(precision), s.max(s.abs(t), one));
+        let newton_done = s.le(s.abs(s.sub(nt, t)), tolerance);
+        let clamped = s.select(s.lt(nt, a), a, nt);
+        let clamped = s.select(s.gt(clamped, b), b, clamped);
+        root = s.select(s.and(running, newton_done), clamped, root);
+        running = s.andnot(running, newton_done);
+        let in_bracket = s.and(not(s, s.eq(df, zero)), s.and(s.gt(nt, a), s.lt(nt, b)));
+        let next = s.select(in_bracket, nt, s.mul(half, s.add(a, b)));
+        let stop = s.or(
+            s.le(s.abs(s.sub(next, t)), tolerance),
+            s.le(s.sub(b, a), tolerance),
+        );
+        root = s.select(s.and(running, stop), next, root);
+        running = s.andnot(running, stop);
+        t = s.select(running, next, t);
+    }
+    s.select(running, t, root)
 }
 
 #[cfg(test)]

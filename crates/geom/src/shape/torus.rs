@@ -1,7 +1,9 @@
-use super::poly::roots_in;
-use super::{segments_by_classification, Seg};
+use super::poly::{max_num, min_num, nan_lanes, quartic_roots_lanes, roots_in};
+use super::{segments_by_classification, Seg, SegLanes};
 use crate::body::{nonzero, positive, Warning};
 use crate::Body;
+use sv_math::lanes::{along, dot, mat_vec, not, sub_point, Lanes};
+use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
 /// A torus: centre, unit axis, major radius `r1`, minor radius `r2 < r1`.
@@ -139,6 +141,173 @@ impl Torus {
         closest > outer * outer || (inner > 0.0 && farthest < inner * inner)
     }
 
+    /// [`Torus::shoot`] in every lane of `m`, operation for operation:
+    /// each lane's first segment, and its second (the `hit` of the second
+    /// is the lanes whose ray crosses the tube twice).
+    #[inline(always)]
+    pub fn shoot_lanes_both<S: Simd>(&self, s: S, r: &Lanes<S>, m: S::M) -> [SegLanes<S>; 2] {
+        let zero = s.splat(0.0);
+        let mut first = SegLanes {
+            t0: zero,
+            t1: zero,
+            f0: zero,
+            f1: zero,
+            hit: s.none(),
+            scalar: s.none(),
+        };
+        let mut second = SegLanes { ..first };
+        let o = mat_vec(s, &self.rot, sub_point(s, r.o, self.c));
+        let d = mat_vec(s, &self.rot, r.d);
+        let (lo, hi, in_box) = self.local_range_lanes(s, o, d);
+        let m = s.and(m, in_box);
+        let m = s.andnot(m, self.misses_clearly_lanes(s, o, d, (lo, hi)));
+        if !s.any(m) {
+            return [first, second];
+        }
+        let o = along(s, o, d, lo);
+        let (a2, b2) = (self.r1 * self.r1, self.r2 * self.r2);
+        let f = dot(s, o, d);
+        let g = s.sub(s.sub(dot(s, o, o), s.splat(a2)), s.splat(b2));
+        let four_f = s.mul(s.splat(4.0), f);
+        let coef = [
+            s.sub(
+                s.mul(g, g),
+                s.mul(s.splat(4.0 * a2), s.sub(s.splat(b2), s.mul(o[2], o[2]))),
+            ),
+            s.add(
+                s.mul(four_f, g),
+                s.mul(s.mul(s.splat(8.0 * a2), o[2]), d[2]),
+            ),
+            s.add(
+                s.add(s.mul(s.splat(2.0), g), s.mul(four_f, f)),
+                s.mul(s.mul(s.splat(4.0 * a2), d[2]), d[2]),
+            ),
+            four_f,
+            s.splat(1.0),
+        ];
+        let (roots, n) = quartic_roots_lanes(s, coef, s.sub(hi, lo), m);
+        // As `segments_by_classification`: the roots come in order, and
+        // each stretch between two whose midpoint is inside joins the
+        // segment before if it ends there. Two stretches that do not
+        // follow one another make two segments; four roots make no more.
+        let mut cands = roots;
+        for cand in &mut cands {
+            *cand = s.add(*cand, lo);
+        }
+        let (mut open, mut two) = (s.none(), s.none());
+        let (mut cur, mut done) = ([zero; 2], [zero; 2]);
+        for w in 0..3 {
+            let (ta, tb) = (cands[w], cands[w + 1]);
+            let valid = s.and(m, s.lt(s.splat((w + 1) as f64), n));
+            let mid = along(s, r.o, r.d, s.mul(s.splat(0.5), s.add(ta, tb)));
+            let inside = s.and(s.andnot(valid, s.le(tb, ta)), self.inside_lanes(s, mid));
+            if !s.any(inside) {
+                continue;
+            }
+            let join = s.and(s.and(inside, open), s.eq(cur[1], ta));
+            let start = s.andnot(inside, join);
+            let close = s.and(start, open);
+            done = [
+                s.select(close, cur[0], done[0]),
+                s.select(close, cur[1], done[1]),
+            ];
+            two = s.or(two, close);
+            cur = [s.select(start, ta, cur[0]), s.select(inside, tb, cur[1])];
+            open = s.or(open, inside);
+        }
+        (first.t0, first.t1, first.hit) = (
+            s.select(two, done[0], cur[0]),
+            s.select(two, done[1], cur[1]),
+            open,
+        );
+        (second.t0, second.t1, second.hit) = (cur[0], cur[1], two);
+        [first, second]
+    }
+
+    /// [`Torus::local_range`]'s range in every lane (the box's slabs as
+    /// `Aabb::ray_range` takes them), and the lanes that meet the box.
+    #[inline(always)]
+    fn local_range_lanes<S: Simd>(&self, s: S, o: [S::F; 3], d: [S::F; 3]) -> (S::F, S::F, S::M) {
+        let e = self.r1 + self.r2;
+        let (low, high) = ([-e, -e, -self.r2], [e, e, self.r2]);
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        let mut t0 = s.splat(f64::NEG_INFINITY);
+        let mut t1 = s.splat(f64::INFINITY);
+        let mut miss = s.none();
+        for a in 0..3 {
+            let (low, high) = (s.splat(low[a]), s.splat(high[a]));
+            let level = s.eq(d[a], zero);
+            let outside = s.or(s.lt(o[a], low), s.gt(o[a], high));
+            miss = s.or(miss, s.and(level, outside));
+            let inv = s.div(one, d[a]);
+            let ta = s.mul(s.sub(low, o[a]), inv);
+            let tb = s.mul(s.sub(high, o[a]), inv);
+            let swap = s.gt(ta, tb);
+            let (ta, tb) = (s.select(swap, tb, ta), s.select(swap, ta, tb));
+            t0 = s.select(level, t0, max_num(s, t0, ta));
+            t1 = s.select(level, t1, min_num(s, t1, tb));
+        }
+        (t0, t1, s.andnot(not(s, s.gt(t0, t1)), miss))
+    }
+
+    /// [`Torus::misses_clearly`] in every lane.
+    #[inline(always)]
+    fn misses_clearly_lanes<S: Simd>(
+        &self,
+        s: S,
+        o: [S::F; 3],
+        d: [S::F; 3],
+        (lo, hi): (S::F, S::F),
+    ) -> S::M {
+        let zero = s.splat(0.0);
+        let margin = 1e-9 * (self.r1 + self.r2);
+        let top = s.splat(self.r2 + margin);
+        let level = s.eq(d[2], zero);
+        let above = s.and(level, s.gt(s.abs(o[2]), top));
+        let level_reach = s.sqrt(max_num(
+            s,
+            s.sub(s.splat(self.r2 * self.r2), s.mul(o[2], o[2])),
+            zero,
+        ));
+        let za = s.div(s.sub(s.neg(top), o[2]), d[2]);
+        let zb = s.div(s.sub(top, o[2]), d[2]);
+        let ta = s.select(level, lo, max_num(s, lo, min_num(s, za, zb)));
+        let tb = s.select(level, hi, min_num(s, hi, max_num(s, za, zb)));
+        let reach = s.select(level, level_reach, s.splat(self.r2));
+        let unknown = s.or(nan_lanes(s, ta), nan_lanes(s, tb));
+        let past = s.gt(ta, tb);
+
+        let flat = s.add(s.mul(d[0], d[0]), s.mul(d[1], d[1]));
+        let vertex = s.div(s.neg(s.add(s.mul(o[0], d[0]), s.mul(o[1], d[1]))), flat);
+        let clamped = s.select(s.lt(vertex, ta), ta, vertex);
+        let clamped = s.select(s.gt(clamped, tb), tb, clamped);
+        let nearest = s.select(s.gt(flat, zero), clamped, ta);
+        let closest = across_lanes(s, o, d, nearest);
+        let farthest = max_num(s, across_lanes(s, o, d, ta), across_lanes(s, o, d, tb));
+        let margin = s.splat(margin);
+        let outer = s.add(s.add(s.splat(self.r1), reach), margin);
+        let inner = s.sub(s.sub(s.splat(self.r1), reach), margin);
+        let clear = s.or(
+            s.gt(closest, s.mul(outer, outer)),
+            s.and(s.gt(inner, zero), s.lt(farthest, s.mul(inner, inner))),
+        );
+        s.or(above, s.andnot(s.or(past, clear), s.or(unknown, above)))
+    }
+
+    /// [`Torus::inside_local`] of the points `p` in every lane.
+    #[inline(always)]
+    fn inside_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> S::M {
+        let q = mat_vec(s, &self.rot, sub_point(s, p, self.c));
+        let rho = s.sub(
+            s.sqrt(s.add(s.mul(q[0], q[0]), s.mul(q[1], q[1]))),
+            s.splat(self.r1),
+        );
+        s.lt(
+            s.add(s.mul(rho, rho), s.mul(q[2], q[2])),
+            s.splat(self.r2 * self.r2),
+        )
+    }
+
     /// Outward unit normal at a point of the surface.
     pub fn normal(&self, p: DVec3) -> DVec3 {
         let q = self.rot * (p - self.c);
@@ -162,6 +331,15 @@ impl Torus {
         );
         Aabb::new(self.c - e, self.c + e)
     }
+}
+
+/// The squared distance from the axis of the points `o + t·d` in every
+/// lane ([`Torus::misses_clearly`]'s `across`).
+#[inline(always)]
+fn across_lanes<S: Simd>(s: S, o: [S::F; 3], d: [S::F; 3], t: S::F) -> S::F {
+    let x = s.add(o[0], s.mul(t, d[0]));
+    let y = s.add(o[1], s.mul(t, d[1]));
+    s.add(s.mul(x, x), s.mul(y, y))
 }
 
 /// TOR: centre V, normal N, major radius R1 and a smaller minor radius R2.

@@ -198,3 +198,112 @@ fn a_mesh_crossed_more_often_than_the_lanes_keep_agrees_too() {
     assert!(most >= 9, "at most {most} segments");
     agree_in_four_and_eight_lanes(&shape, &rays);
 }
+
+/// Tori turned to each axis and leaning, fat and thin.
+fn tori() -> Vec<Shape> {
+    let tor = |c: [f64; 3], n: [f64; 3], r1: f64, r2: f64| {
+        let params = [c.as_slice(), n.as_slice(), &[r1, r2]].concat();
+        prepare_one(&Body::new("tor", BodyKind::Tor, params)).0
+    };
+    vec![
+        tor([21.5, 0.0, 37.0], [1.0, 0.0, 0.0], 8.0, 1.0),
+        tor([0.0, 0.0, 0.0], [0.3015, 0.3015, 0.9045], 5.0, 2.0),
+        tor([1.0, -2.0, 0.5], [0.0, 1.0, 0.0], 3.0, 2.5),
+        tor([0.0, 0.0, 0.0], [0.0, 0.0, -1.0], 1.0, 0.05),
+    ]
+}
+
+/// Rays at a torus of bounds `bounds`: random ones, and rays along each
+/// axis on a grid over the bounds that takes in the planes of its
+/// extremes, as a check's grid and its refinement would fire them.
+fn torus_rays(bounds: sv_math::Aabb, rng: &mut Pcg64) -> Vec<Ray> {
+    let mut out: Vec<Ray> = (0..3000).map(|_| random_ray(rng, bounds)).collect();
+    let (lo, size) = (bounds.min, bounds.size());
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for i in 0..=24 {
+            for j in 0..=24 {
+                let mut from = lo - DVec3::splat(1.0);
+                from[u] = lo[u] + size[u] * i as f64 / 24.0;
+                from[v] = lo[v] + size[v] * j as f64 / 24.0;
+                let mut dir = DVec3::ZERO;
+                dir[axis] = if (i + j) % 2 == 0 { 1.0 } else { -1.0 };
+                from[axis] = if dir[axis] > 0.0 {
+                    lo[axis] - 1.0
+                } else {
+                    lo[axis] + size[axis] + 1.0
+                };
+                out.push(Ray::new(from, dir));
+            }
+        }
+    }
+    out
+}
+
+/// `Torus::shoot_lanes_both` in packets of `P` rays against the scalar
+/// segments, bit for bit; how many lanes have one segment, and how many
+/// two.
+fn torus_agrees<const P: usize>(shape: &Shape, rays: &[Ray]) -> (usize, usize) {
+    let Shape::Torus(torus) = shape else {
+        panic!("not a torus: {shape:?}");
+    };
+    let s = Portable::<P>;
+    let mut counts = (0, 0);
+    for chunk in rays.chunks(P) {
+        let ray = |j: usize| chunk[j.min(chunk.len() - 1)];
+        let lanes = Lanes::<Portable<P>> {
+            o: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).origin[c])),
+            d: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).dir[c])),
+            inv: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).inv_dir[c])),
+        };
+        let [first, second] = torus.shoot_lanes_both(s, &lanes, s.mask(u32::MAX));
+        for (j, r) in chunk.iter().enumerate() {
+            let mut segs: Vec<Seg> = Vec::new();
+            shape.shoot(r, &mut segs);
+            let lane = |g: &sv_geom::shape::SegLanes<Portable<P>>| Seg {
+                t0: g.t0[j],
+                t1: g.t1[j],
+                f0: g.f0[j] as u32,
+                f1: g.f1[j] as u32,
+            };
+            let mut got = Vec::new();
+            if s.bits(first.hit) & 1 << j != 0 {
+                got.push(lane(&first));
+            }
+            if s.bits(second.hit) & 1 << j != 0 {
+                got.push(lane(&second));
+            }
+            let bits = |v: &[Seg]| -> Vec<(u64, u64, u32, u32)> {
+                v.iter()
+                    .map(|g| (g.t0.to_bits(), g.t1.to_bits(), g.f0, g.f1))
+                    .collect()
+            };
+            assert_eq!(bits(&got), bits(&segs), "ray {r:?}: {got:?} for {segs:?}");
+            match segs.len() {
+                1 => counts.0 += 1,
+                2 => counts.1 += 1,
+                _ => {}
+            }
+        }
+    }
+    counts
+}
+
+#[test]
+fn tori_in_lanes_agree_with_the_scalar_code() {
+    let mut rng = Pcg64::seed_from_u64(1973);
+    for shape in tori() {
+        let rays = torus_rays(shape.bounds(), &mut rng);
+        let (four, eight) = (
+            torus_agrees::<4>(&shape, &rays),
+            torus_agrees::<8>(&shape, &rays),
+        );
+        assert_eq!(four, eight);
+        // Many rays cross the tube once, and many twice.
+        assert!(
+            four.0 > rays.len() / 20 && four.1 > rays.len() / 50,
+            "{four:?} of {}",
+            rays.len()
+        );
+    }
+}

@@ -680,7 +680,22 @@ impl Prepared {
         // The lanes left to the scalar code.
         let mut more = s.none();
         let mut cur: Option<SpanLanes<S>> = None;
-        for &b in plus {
+        // A lane may hold two spans, as the lists would: `cur`, and `next`
+        // in the lanes of `two`. A third goes to the scalar code.
+        let (mut two, mut next) = (s.none(), None);
+        if let ([b], Shape::Torus(torus)) = (plus, &self.shapes[plus[0] as usize]) {
+            // A lone torus: its two segments, where a ray crosses the
+            // tube twice, are the zone's two spans before the `-` bodies.
+            let [g, h] = torus.shoot_lanes_both(s, r, alive);
+            let (first, second) = (span(s, &g, *b), span(s, &h, *b));
+            let in_first = s.and(s.and(alive, g.hit), within(s, &first, lo, hi));
+            let in_second = s.and(s.and(alive, h.hit), within(s, &second, lo, hi));
+            alive = s.or(in_first, in_second);
+            two = s.and(in_first, in_second);
+            cur = Some(pick_span(s, in_first, first, second));
+            next = Some(second);
+        }
+        for &b in plus.iter().filter(|_| next.is_none()) {
             // A lone `+` body has the zone's bounds, which the rays meet.
             if plus.len() > 1 {
                 let inf = s.splat(f64::INFINITY);
@@ -722,9 +737,7 @@ impl Prepared {
                 more,
             };
         };
-        // A lane may hold two spans, as the lists would: `cur`, and `next`
-        // in the lanes of `two`. A third goes to the scalar code.
-        let (mut two, mut next) = (s.none(), cur);
+        let mut next = next.unwrap_or(cur);
         for &b in minus {
             // The reach of the lane's spans, as the lists see it.
             let last = s.select(two, next.b.t, cur.b.t);

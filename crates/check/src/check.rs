@@ -1,7 +1,7 @@
 //! `check`: overlaps and voids by grids of rays.
 
 use crate::analyse::FindingKind;
-use crate::fire::{fire_chunks, Acc, ChunkFindings, Totals, CHUNK};
+use crate::fire::{fire_chunks, Acc, ChunkFindings, Totals, ZoneReach, CHUNK};
 use crate::grid::{cells, Grid};
 use crate::model::{CheckError, Model};
 use crate::refine::Refinement;
@@ -93,6 +93,7 @@ pub(crate) struct Plan {
     pub tolerance: f64,
     pub grid: Grid,
     pub refinement: Refinement,
+    pub reach: ZoneReach,
 }
 
 impl Plan {
@@ -130,12 +131,14 @@ impl Plan {
             levels,
             first_index: grid.total() + opts.random,
         };
+        let reach = ZoneReach::new(&model.prepared, &grid.crossed());
         Ok(Plan {
             checked_box,
             spacing,
             tolerance,
             grid,
             refinement,
+            reach,
         })
     }
 

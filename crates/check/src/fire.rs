@@ -3,7 +3,7 @@
 
 use crate::analyse::{FindingKind, RayCheck};
 use crate::check::{CheckOptions, Plan};
-use crate::grid::{random_ray, Grid};
+use crate::grid::random_ray;
 use crate::model::Model;
 use crate::refine::{signature, Bundle, Signatures};
 use rayon::prelude::*;
@@ -11,8 +11,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use sv_math::{DVec3, Ray};
-use sv_trace::Partition;
+use sv_math::{Aabb, DVec3, Ray};
+use sv_trace::{Partition, Prepared};
 
 /// The summed stretches of one kind of finding.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -203,7 +203,7 @@ fn refine_chunks(
     let mut fired = 0;
     if rays.start < rays.end {
         fired = plan.refinement.refine(
-            &plan.grid,
+            (&plan.grid, &plan.reach),
             sigs,
             rays,
             (ray_check, bundle, plan.tolerance),
@@ -217,6 +217,35 @@ fn refine_chunks(
         );
     }
     (sums.iter().map(KindSums::sorted).collect(), fired)
+}
+
+/// Where each zone lies within the box the rays cross, padded by the
+/// tolerance: a zone that a half-space leaves unbounded (a ground plane
+/// not square to an axis) reaches only its side of the box, and the rows
+/// and tiles of rays that pass beside that part do not list it.
+pub(crate) struct ZoneReach(Vec<Aabb>);
+
+impl ZoneReach {
+    /// The reach of every zone of `prepared` within `crossed`.
+    pub(crate) fn new(prepared: &Prepared, crossed: &Aabb) -> ZoneReach {
+        let tolerance = prepared.tolerance();
+        let zones = 0..prepared.zone_count() as u32;
+        ZoneReach(
+            zones
+                .map(|zone| prepared.zone_reach(zone, crossed).padded(tolerance))
+                .collect(),
+        )
+    }
+
+    /// The reach of zone `zone`.
+    pub(crate) fn of(&self, zone: u32) -> &Aabb {
+        &self.0[zone as usize]
+    }
+
+    /// Keep only the zones of `zones` that reach into `within`.
+    pub(crate) fn keep_meeting(&self, zones: &mut Vec<u32>, within: &Aabb) {
+        zones.retain(|&zone| !self.of(zone).intersection(within).is_empty());
+    }
 }
 
 /// The zones a run of grid rays along one row can meet: those whose
@@ -251,12 +280,13 @@ impl RowZones {
     fn for_rays(
         &mut self,
         model: &Model,
-        grid: &Grid,
+        plan: &Plan,
         rays: Range<u64>,
         end: u64,
     ) -> Option<&[u32]> {
         if !self.rays.contains(&rays.start) {
-            self.list(model, grid, rays.start..grid.row_end(rays.start).min(end));
+            let grid = &plan.grid;
+            self.list(model, plan, rays.start..grid.row_end(rays.start).min(end));
         }
         if !self.listed {
             return None;
@@ -292,19 +322,22 @@ impl RowZones {
     }
 
     /// List the zones of the run `rays`.
-    fn list(&mut self, model: &Model, grid: &Grid, rays: Range<u64>) {
+    fn list(&mut self, model: &Model, plan: &Plan, rays: Range<u64>) {
+        let grid = &plan.grid;
         let crossed = grid.run_box(rays.start, rays.end - 1);
         self.listed = model.prepared.all_zones_in_box(&crossed, &mut self.scratch);
+        let tolerance = model.prepared.tolerance();
+        plan.reach
+            .keep_meeting(&mut self.scratch, &crossed.padded(tolerance));
         self.near.clear();
         self.zones.clear();
         self.last.clear();
         self.next = 0;
-        let tolerance = model.prepared.tolerance();
         let along = grid.axis(rays.start);
         for &zone in &self.scratch {
-            let bounds = model.prepared.zone_bounds(zone).padded(tolerance);
-            let (first, last) = grid.rays_near(rays.clone(), &bounds);
-            self.near.push((first, last, zone, bounds.min[along]));
+            let (first, last) = grid.rays_near(rays.clone(), plan.reach.of(zone));
+            let entry = model.prepared.zone_bounds(zone).min[along] - tolerance;
+            self.near.push((first, last, zone, entry));
         }
         self.near
             .sort_unstable_by_key(|&(first, last, zone, _)| (first, last, zone));
@@ -415,7 +448,7 @@ fn fire_grid_rays(
         let mut follows = false;
         for start in run.rays.clone().step_by(PACKET as usize) {
             let packet = start..(start + PACKET).min(run.rays.end);
-            let zones = worker.row.for_rays(model, grid, packet.clone(), rays.end);
+            let zones = worker.row.for_rays(model, plan, packet.clone(), rays.end);
             let Worker {
                 ray_check,
                 rays,

@@ -63,6 +63,13 @@ impl Grid {
         }
     }
 
+    /// The box every grid ray crosses within its range (and every ray
+    /// between two neighbours).
+    pub(crate) fn crossed(&self) -> Aabb {
+        let pad = DVec3::splat(self.pad);
+        Aabb::new(self.lo - pad, self.lo + self.size + pad)
+    }
+
     pub(crate) fn total(&self) -> u64 {
         self.first[3]
     }

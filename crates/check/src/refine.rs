@@ -21,6 +21,7 @@
 //! chunk's sums are the same to the bit however chunks are grouped.
 
 use crate::analyse::RayCheck;
+use crate::fire::ZoneReach;
 use crate::grid::Grid;
 use std::ops::Range;
 use sv_math::{Aabb, Ray};
@@ -175,7 +176,7 @@ impl Refinement {
     /// fired.
     pub fn refine(
         &self,
-        grid: &Grid,
+        (grid, reach): (&Grid, &ZoneReach),
         sigs: &Signatures,
         rays: Range<u64>,
         (ray_check, bundle, tol): (&mut RayCheck, &mut Bundle, f64),
@@ -186,7 +187,7 @@ impl Refinement {
         }
         self.segments(grid, sigs, rays, bundle);
         bundle.order_by_tile();
-        bundle.list_zones(ray_check);
+        bundle.list_zones(ray_check, reach);
         // The lists are the bundle's, kept from run to run.
         let segments = std::mem::take(&mut bundle.segments);
         let mut pieces = std::mem::take(&mut bundle.pieces);
@@ -435,10 +436,10 @@ impl Bundle {
         }
     }
 
-    /// List the zones each tile's rays may meet into `zones`, in the
-    /// order the rays enter their bounds (as a grid row's, see
+    /// List the zones each tile's rays may meet (whose reach meets the
+    /// tile's box) into `zones`, in the order the rays enter their bounds (as a grid row's, see
     /// `fire::RowZones`).
-    fn list_zones(&mut self, ray_check: &RayCheck) {
+    fn list_zones(&mut self, ray_check: &RayCheck, reach: &ZoneReach) {
         let prepared = ray_check.prepared();
         self.zones.clear();
         let mut listed = std::mem::take(&mut self.listed);
@@ -447,6 +448,7 @@ impl Bundle {
             if !prepared.all_zones_in_box(&tile.reach, &mut listed) {
                 continue;
             }
+            reach.keep_meeting(&mut listed, &tile.reach.padded(prepared.tolerance()));
             let along = tile.key.0;
             listed.sort_by(|&a, &b| {
                 let entry = |z| prepared.zone_bounds(z).min[along];

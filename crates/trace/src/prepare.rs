@@ -286,9 +286,35 @@ impl Prepared {
         self.bounds
     }
 
+    /// How many zones there are (numbered from 0).
+    pub fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+
     /// Bounds of zone `zi` (as listed by [`Prepared::all_zones_in_box`]).
     pub fn zone_bounds(&self, zi: u32) -> Aabb {
         self.zones[zi as usize].bounds
+    }
+
+    /// Bounds of the part of zone `zi` inside the finite box `within`:
+    /// its bounds there, and for a zone that an unbounded `+` polyhedron
+    /// (a half-space not square to an axis, say) leaves unbounded, that
+    /// body's part of the box. Never
+    /// smaller than the part but for rounding: pad it by the tolerance.
+    pub fn zone_reach(&self, zi: u32, within: &Aabb) -> Aabb {
+        let z = &self.zones[zi as usize];
+        let mut reach = z.bounds.intersection(within);
+        if z.bounds.is_finite() || reach.is_empty() {
+            return reach;
+        }
+        for &b in &self.zone_terms(z)[..usize::from(z.plus)] {
+            if let Shape::Polyhedron(body) = &self.shapes[b as usize] {
+                if !body.bounds().is_finite() {
+                    reach = reach.intersection(&body.bounds_within(&reach));
+                }
+            }
+        }
+        reach
     }
 
     /// Bounds of region `r`'s zones in this universe (empty when it has

@@ -520,3 +520,33 @@ fn a_check_split_into_parts_merges_to_the_same_report() {
     // A missing share is refused.
     assert!(sv_check::check_merge(&m, &opts, &parts[1..]).is_err());
 }
+
+#[test]
+fn a_leaning_ground_is_found_where_it_reaches_into_the_box() {
+    // The ground is unbounded; the rows and tiles of rays beside its
+    // corner of the checked box do not list it, and those through that
+    // corner find all of its overlap with the cube, a tetrahedron.
+    let text = "
+BODY cube RPP 0 1 0 1 0 1
+BODY ground PLA (1,1,1) (0.5,0,0)
+BODY far SPH (3,3,3) 0.5
+REGION CUBE = +cube
+REGION GROUND = +ground
+REGION FAR = +far
+";
+    let m = model(text, UniverseChoice::None);
+    let opts = CheckOptions {
+        spacing: Some(0.02),
+        ..CheckOptions::default()
+    };
+    let r = check(&m, &opts).unwrap();
+    assert_eq!(r.overlaps.len(), 1, "{}", r.to_table());
+    let o = &r.overlaps[0];
+    assert_eq!(o.regions, ["CUBE".to_string(), "GROUND".to_string()]);
+    let tetrahedron = 0.5f64.powi(3) / 6.0;
+    assert!(
+        (o.problem.volume - tetrahedron).abs() < 0.03 * tetrahedron,
+        "{} vs {tetrahedron}",
+        o.problem.volume
+    );
+}

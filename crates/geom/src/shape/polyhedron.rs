@@ -168,6 +168,44 @@ impl Polyhedron {
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
+
+    /// Bounds of the part of the polyhedron inside the finite box
+    /// `within`, for a half-space or another unbounded polyhedron, whose
+    /// own bounds are infinite: each plane's side of the box (the box's
+    /// corners on that side and the plane's crossings of its edges),
+    /// bounded, and these intersected. A little larger than the part for
+    /// several planes, never smaller but for rounding (pad it).
+    pub fn bounds_within(&self, within: &Aabb) -> Aabb {
+        let mut out = self.bounds.intersection(within);
+        let (lo, hi) = (within.min, within.max);
+        let corner = |k: usize| {
+            DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        for plane in &self.planes {
+            let side = |p: DVec3| plane.n.dot(p) - plane.d;
+            let mut part = Aabb::EMPTY;
+            for k in 0..8 {
+                let a = corner(k);
+                if side(a) <= 0.0 {
+                    part = part.including(a);
+                }
+                // The edges from this corner to the corners one bit up.
+                for bit in [1, 2, 4].into_iter().filter(|bit| k & bit == 0) {
+                    let b = corner(k | bit);
+                    let (fa, fb) = (side(a), side(b));
+                    if (fa < 0.0) != (fb < 0.0) {
+                        part = part.including(a + (b - a) * (fa / (fa - fb)));
+                    }
+                }
+            }
+            out = out.intersection(&part);
+        }
+        out
+    }
 }
 
 /// Outcome of [`convex_hull_planes`].
@@ -593,6 +631,52 @@ fn half_space(n: DVec3, d: f64) -> Result<(super::Shape, Aabb), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_half_space_is_bounded_by_its_side_of_a_box() {
+        let within = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+        // x + y + z <= -2: the corner at (-1, -1, -1) up to where the
+        // plane crosses its three edges, one unit along each.
+        let n = DVec3::splat(1.0).normalize();
+        let corner = Polyhedron::new(vec![Plane { n, d: -2.0 * n.x }], Aabb::INFINITE);
+        let part = corner.bounds_within(&within);
+        assert!(
+            (part.min - DVec3::splat(-1.0)).abs().max_element() < 1e-12,
+            "{part:?}"
+        );
+        assert!(
+            (part.max - DVec3::splat(0.0)).abs().max_element() < 1e-12,
+            "{part:?}"
+        );
+        // Every point of the box on the plane's side lies in the part,
+        // for planes every way.
+        for k in 0..200 {
+            let a = k as f64 * 0.731;
+            let n = DVec3::new(
+                a.cos() * (1.3 * a).sin(),
+                a.sin() * (1.3 * a).sin(),
+                (1.3 * a).cos(),
+            );
+            let plane = Plane {
+                n,
+                d: (k as f64 * 0.37).sin(),
+            };
+            let part = Polyhedron::new(vec![plane], Aabb::INFINITE).bounds_within(&within);
+            for i in 0..9 {
+                for j in 0..9 {
+                    for l in 0..9 {
+                        let p = DVec3::new(i as f64, j as f64, l as f64) / 4.0 - DVec3::splat(1.0);
+                        if n.dot(p) <= plane.d {
+                            assert!(
+                                part.padded(1e-12).contains(p),
+                                "{p} outside {part:?} for {plane:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn hull_of_unit_cube_has_six_planes_and_unit_volume() {

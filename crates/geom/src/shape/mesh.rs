@@ -25,8 +25,23 @@ struct Tri {
 #[derive(Clone, Debug)]
 pub struct Mesh {
     tris: Vec<Tri>,
+    /// Per axis, per triangle, what Möller–Trumbore first works out from
+    /// a ray's direction alone, for rays along that axis (a check's grid
+    /// rays, a view along an axis): `d × e2`, then `e1 · (d × e2)` and
+    /// one over it. The lanes read them for a packet along an axis instead
+    /// of dividing for every triangle.
+    along_axis: [Vec<AxisTerms>; 3],
     bounds: Aabb,
     eps: f64,
+}
+
+/// [`Mesh::along_axis`]' terms of one triangle: `p = d × e2`, `det` and
+/// `inv`, as [`Mesh::shoot`] computes them for `d` the axis.
+#[derive(Clone, Copy, Debug)]
+struct AxisTerms {
+    p: DVec3,
+    det: f64,
+    inv: f64,
 }
 
 impl Mesh {
@@ -59,8 +74,26 @@ impl Mesh {
                     n: n / len * flip,
                 })
             })
-            .collect();
-        Mesh { tris, bounds, eps }
+            .collect::<Vec<Tri>>();
+        let along_axis = DVec3::AXES.map(|dir| {
+            tris.iter()
+                .map(|tri| {
+                    let p = dir.cross(tri.e2);
+                    let det = tri.e1.dot(p);
+                    AxisTerms {
+                        p,
+                        det,
+                        inv: 1.0 / det,
+                    }
+                })
+                .collect()
+        });
+        Mesh {
+            tris,
+            along_axis,
+            bounds,
+            eps,
+        }
     }
 
     /// Number of (non-degenerate) triangles.
@@ -148,8 +181,9 @@ impl Mesh {
         let mut crossings =
             [const { MaybeUninit::<(usize, S::F, S::M)>::uninit() }; KEPT_CROSSINGS];
         let mut kept = 0;
+        let along = self.terms_along(s, r);
         for (i, tri) in self.tris.iter().enumerate() {
-            let Some((t, hit)) = crossing_lanes(s, tri, r) else {
+            let Some((t, hit)) = crossing_lanes(s, tri, r, along.map(|terms| &terms[i])) else {
                 continue;
             };
             if kept < KEPT_CROSSINGS {
@@ -177,7 +211,7 @@ impl Mesh {
             }
         } else if s.any(beyond_first) {
             for (i, tri) in self.tris.iter().enumerate() {
-                if let Some((t, hit)) = crossing_lanes(s, tri, r) {
+                if let Some((t, hit)) = crossing_lanes(s, tri, r, along.map(|terms| &terms[i])) {
                     nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
                 }
             }
@@ -192,6 +226,21 @@ impl Mesh {
             hit: s.andnot(two, scalar),
             scalar,
         }
+    }
+
+    /// The triangles' [`AxisTerms`] for the rays `r` when every lane's
+    /// direction is the same axis (`+x`, `+y` or `+z`).
+    #[inline(always)]
+    fn terms_along<S: Simd>(&self, s: S, r: &Lanes<S>) -> Option<&[AxisTerms]> {
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        for (k, terms) in self.along_axis.iter().enumerate() {
+            let along = s.eq(r.d[k], one);
+            let level = s.and(s.eq(r.d[(k + 1) % 3], zero), s.eq(r.d[(k + 2) % 3], zero));
+            if s.all(s.and(along, level)) {
+                return Some(terms);
+            }
+        }
+        None
     }
 
     /// Outward unit normal at a point of the surface.
@@ -254,17 +303,30 @@ fn nearer_beyond<S: Simd>(
 }
 
 /// A ray's crossing of triangle `tri` in every lane, as [`Mesh::shoot`]
-/// computes it (Möller–Trumbore, the same operations in the same order):
-/// its distance, and the lanes that cross; `None` when no lane does. The
+/// computes it (Möller–Trumbore, the same operations in the same order,
+/// those of the direction alone taken from `along` where the lanes run
+/// along an axis): its distance, and the lanes that cross; `None` when no
+/// lane does. The
 /// rest is left undone once no lane's `u` is in range: most triangles of
 /// a mesh lie beside a packet's rays.
 #[inline(always)]
-fn crossing_lanes<S: Simd>(s: S, tri: &Tri, r: &Lanes<S>) -> Option<(S::F, S::M)> {
+fn crossing_lanes<S: Simd>(
+    s: S,
+    tri: &Tri,
+    r: &Lanes<S>,
+    along: Option<&AxisTerms>,
+) -> Option<(S::F, S::M)> {
     let (e1, e2) = (splat3(s, tri.e1), splat3(s, tri.e2));
     let (zero, one) = (s.splat(0.0), s.splat(1.0));
-    let p = cross(s, r.d, e2);
-    let det = dot(s, e1, p);
-    let inv = s.div(one, det);
+    let (p, det, inv) = match along {
+        // The same values, for the direction they were worked out for.
+        Some(terms) => (splat3(s, terms.p), s.splat(terms.det), s.splat(terms.inv)),
+        None => {
+            let p = cross(s, r.d, e2);
+            let det = dot(s, e1, p);
+            (p, det, s.div(one, det))
+        }
+    };
     let from_corner = sub_point(s, r.o, tri.v0);
     let u = s.mul(dot(s, from_corner, p), inv);
     let flat = s.lt(s.abs(det), s.splat(1e-300));

@@ -62,6 +62,22 @@ fn rays(body: &Body, rng: &mut Pcg64) -> Vec<Ray> {
     let (shape, bounds) = prepare_one(body);
     assert!(matches!(shape, Shape::Mesh(_)));
     let mut out: Vec<Ray> = (0..2000).map(|_| random_ray(rng, bounds)).collect();
+    // Grids of rays along each axis, in whole packets: every lane of a
+    // packet runs along the same axis, as a check's grid rays do.
+    for axis in DVec3::AXES {
+        let (u, v) = (
+            DVec3::new(axis.z, axis.x, axis.y),
+            DVec3::new(axis.y, axis.z, axis.x),
+        );
+        for i in 0..16 {
+            for j in 0..16 {
+                let (a, b) = ((i as f64 + 0.37) / 16.0, (j as f64 + 0.61) / 16.0);
+                let across = bounds.min + (bounds.max - bounds.min) * (u * a + v * b);
+                let from = across * (DVec3::ONE - axis) + (bounds.min - DVec3::ONE) * axis;
+                out.push(Ray::new(from, axis));
+            }
+        }
+    }
     let reach = bounds.diagonal() * 2.0;
     for [a, b, c] in ars_triangles(body) {
         for target in [a, b, c, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5] {

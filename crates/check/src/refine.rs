@@ -437,8 +437,8 @@ impl Bundle {
     }
 
     /// List the zones each tile's rays may meet (whose reach meets the
-    /// tile's box) into `zones`, in the order the rays enter their bounds (as a grid row's, see
-    /// `fire::RowZones`).
+    /// tile's box) into `zones`, in the order the rays enter their bounds
+    /// (as a grid row's, see `fire::RowZones`).
     fn list_zones(&mut self, ray_check: &RayCheck, reach: &ZoneReach) {
         let prepared = ray_check.prepared();
         self.zones.clear();

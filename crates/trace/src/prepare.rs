@@ -299,8 +299,9 @@ impl Prepared {
     /// Bounds of the part of zone `zi` inside the finite box `within`:
     /// its bounds there, and for a zone that an unbounded `+` polyhedron
     /// (a half-space not square to an axis, say) leaves unbounded, that
-    /// body's part of the box. Never
-    /// smaller than the part but for rounding: pad it by the tolerance.
+    /// body's part of the box
+    /// ([`sv_geom::shape::Polyhedron::bounds_within`]). Never smaller
+    /// than the part but for rounding: pad it by the tolerance.
     pub fn zone_reach(&self, zi: u32, within: &Aabb) -> Aabb {
         let z = &self.zones[zi as usize];
         let mut reach = z.bounds.intersection(within);

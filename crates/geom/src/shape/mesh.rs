@@ -35,7 +35,7 @@ pub struct Mesh {
     eps: f64,
 }
 
-/// [`Mesh::along_axis`]' terms of one triangle: `p = d × e2`, `det` and
+/// A mesh's `along_axis` terms of one triangle: `p = d × e2`, `det` and
 /// `inv`, as [`Mesh::shoot`] computes them for `d` the axis.
 #[derive(Clone, Copy, Debug)]
 struct AxisTerms {
@@ -306,9 +306,8 @@ fn nearer_beyond<S: Simd>(
 /// computes it (Möller–Trumbore, the same operations in the same order,
 /// those of the direction alone taken from `along` where the lanes run
 /// along an axis): its distance, and the lanes that cross; `None` when no
-/// lane does. The
-/// rest is left undone once no lane's `u` is in range: most triangles of
-/// a mesh lie beside a packet's rays.
+/// lane does. The rest is left undone once no lane's `u` is in range:
+/// most triangles of a mesh lie beside a packet's rays.
 #[inline(always)]
 fn crossing_lanes<S: Simd>(
     s: S,

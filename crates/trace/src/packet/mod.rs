@@ -683,11 +683,18 @@ impl Prepared {
         // A lane may hold two spans, as the lists would: `cur`, and `next`
         // in the lanes of `two`. A third goes to the scalar code.
         let (mut two, mut next) = (s.none(), None);
-        if let ([b], Shape::Torus(torus)) = (plus, &self.shapes[plus[0] as usize]) {
+        let lone_torus = match plus {
+            [b] => match &self.shapes[*b as usize] {
+                Shape::Torus(torus) => Some((*b, torus)),
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some((b, torus)) = lone_torus {
             // A lone torus: its two segments, where a ray crosses the
             // tube twice, are the zone's two spans before the `-` bodies.
             let [g, h] = torus.shoot_lanes_both(s, r, alive);
-            let (first, second) = (span(s, &g, *b), span(s, &h, *b));
+            let (first, second) = (span(s, &g, b), span(s, &h, b));
             let in_first = s.and(s.and(alive, g.hit), within(s, &first, lo, hi));
             let in_second = s.and(s.and(alive, h.hit), within(s, &second, lo, hi));
             alive = s.or(in_first, in_second);
@@ -695,7 +702,9 @@ impl Prepared {
             cur = Some(pick_span(s, in_first, first, second));
             next = Some(second);
         }
-        for &b in plus.iter().filter(|_| next.is_none()) {
+        // The `+` bodies of one segment a lane, intersected one by one.
+        let one_segment = if lone_torus.is_some() { &[][..] } else { plus };
+        for &b in one_segment {
             // A lone `+` body has the zone's bounds, which the rays meet.
             if plus.len() > 1 {
                 let inf = s.splat(f64::INFINITY);

@@ -96,6 +96,17 @@ fn rays(body: &Body, rng: &mut Pcg64) -> Vec<Ray> {
     out
 }
 
+/// The rays of `chunk` (at most `P`) in `P` portable lanes, the last
+/// repeated in the lanes left.
+fn lanes_of<const P: usize>(chunk: &[Ray]) -> Lanes<Portable<P>> {
+    let ray = |j: usize| chunk[j.min(chunk.len() - 1)];
+    Lanes {
+        o: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).origin[c])),
+        d: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).dir[c])),
+        inv: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).inv_dir[c])),
+    }
+}
+
 /// Checks each lane of `Mesh::shoot_lanes` for `rays` against the scalar
 /// segments: a lane left to the scalar code only where it must or may be,
 /// a lane's segment equal bit for bit to the scalar one; the number of
@@ -104,13 +115,7 @@ fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
     let s = Portable::<P>;
     let mut with_segment = 0;
     for chunk in rays.chunks(P) {
-        let ray = |j: usize| chunk[j.min(chunk.len() - 1)];
-        let lanes = Lanes::<Portable<P>> {
-            o: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).origin[c])),
-            d: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).dir[c])),
-            inv: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).inv_dir[c])),
-        };
-        let got = shape.shoot_lanes(s, &lanes);
+        let got = shape.shoot_lanes(s, &lanes_of(chunk));
         let (hit, scalar) = (s.bits(got.hit), s.bits(got.scalar));
         for (j, r) in chunk.iter().enumerate() {
             let mut segs: Vec<Seg> = Vec::new();
@@ -266,13 +271,7 @@ fn torus_agrees<const P: usize>(shape: &Shape, rays: &[Ray]) -> (usize, usize) {
     let s = Portable::<P>;
     let mut counts = (0, 0);
     for chunk in rays.chunks(P) {
-        let ray = |j: usize| chunk[j.min(chunk.len() - 1)];
-        let lanes = Lanes::<Portable<P>> {
-            o: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).origin[c])),
-            d: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).dir[c])),
-            inv: [0, 1, 2].map(|c| std::array::from_fn(|j| ray(j).inv_dir[c])),
-        };
-        let [first, second] = torus.shoot_lanes_both(s, &lanes, s.mask(u32::MAX));
+        let [first, second] = torus.shoot_lanes_both(s, &lanes_of(chunk), s.mask(u32::MAX));
         for (j, r) in chunk.iter().enumerate() {
             let mut segs: Vec<Seg> = Vec::new();
             shape.shoot(r, &mut segs);

@@ -245,7 +245,11 @@ impl Shape {
     /// [`Shape::has_lanes`] only (one segment at most: the lanes whose ray
     /// a faceted solid would give more are marked `scalar`); the callers
     /// leave the other shapes to the scalar code.
-    #[inline(always)]
+    ///
+    /// Inlined where optimised, as all the lanes' code is (see
+    /// [`Torus::shoot_lanes_both`] for why not otherwise).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(debug_assertions, inline(never))]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         match self {
             Shape::Sphere(b) => b.shoot_lanes(s, r),

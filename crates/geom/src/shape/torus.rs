@@ -144,7 +144,15 @@ impl Torus {
     /// [`Torus::shoot`] in every lane of `m`, operation for operation:
     /// each lane's first segment, and its second (the `hit` of the second
     /// is the lanes whose ray crosses the tube twice).
-    #[inline(always)]
+    ///
+    /// Inlined into the packets' entry points where optimised, as all the
+    /// lanes' code is. Unoptimised, every value of an inlined function
+    /// keeps its own place on the stack, and the quartic's many, with the
+    /// bodies' casts at every place a zone casts one, grew the render
+    /// packets' entry point's frame past a worker thread's 2 MiB stack
+    /// (2.6 MB): there the casts stay calls.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(debug_assertions, inline(never))]
     pub fn shoot_lanes_both<S: Simd>(&self, s: S, r: &Lanes<S>, m: S::M) -> [SegLanes<S>; 2] {
         let zero = s.splat(0.0);
         let mut first = SegLanes {

@@ -683,18 +683,12 @@ impl Prepared {
         // A lane may hold two spans, as the lists would: `cur`, and `next`
         // in the lanes of `two`. A third goes to the scalar code.
         let (mut two, mut next) = (s.none(), None);
-        let lone_torus = match plus {
-            [b] => match &self.shapes[*b as usize] {
-                Shape::Torus(torus) => Some((*b, torus)),
-                _ => None,
-            },
-            _ => None,
-        };
-        if let Some((b, torus)) = lone_torus {
+        let first_shape = plus.first().map(|&b| &self.shapes[b as usize]);
+        if let ([b], Some(Shape::Torus(torus))) = (plus, first_shape) {
             // A lone torus: its two segments, where a ray crosses the
             // tube twice, are the zone's two spans before the `-` bodies.
             let [g, h] = torus.shoot_lanes_both(s, r, alive);
-            let (first, second) = (span(s, &g, b), span(s, &h, b));
+            let (first, second) = (span(s, &g, *b), span(s, &h, *b));
             let in_first = s.and(s.and(alive, g.hit), within(s, &first, lo, hi));
             let in_second = s.and(s.and(alive, h.hit), within(s, &second, lo, hi));
             alive = s.or(in_first, in_second);
@@ -703,8 +697,7 @@ impl Prepared {
             next = Some(second);
         }
         // The `+` bodies of one segment a lane, intersected one by one.
-        let one_segment = if lone_torus.is_some() { &[][..] } else { plus };
-        for &b in one_segment {
+        for &b in plus.iter().filter(|_| next.is_none()) {
             // A lone `+` body has the zone's bounds, which the rays meet.
             if plus.len() > 1 {
                 let inf = s.splat(f64::INFINITY);

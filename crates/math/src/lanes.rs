@@ -109,6 +109,32 @@ pub fn not<S: Simd>(s: S, m: S::M) -> S::M {
     s.andnot(s.mask(u32::MAX), m)
 }
 
+/// Lanes whose value is not a number.
+#[inline(always)]
+pub fn nan<S: Simd>(s: S, x: S::F) -> S::M {
+    not(s, s.eq(x, x))
+}
+
+/// `x.min(y)` as `f64::min` computes it: a number beats one that is not.
+#[inline(always)]
+pub fn min_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
+    s.select(nan(s, x), y, s.select(nan(s, y), x, s.min(x, y)))
+}
+
+/// `x.max(y)` as `f64::max` computes it: a number beats one that is not.
+#[inline(always)]
+pub fn max_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
+    s.select(nan(s, x), y, s.select(nan(s, y), x, s.max(x, y)))
+}
+
+/// `x.clamp(lo, hi)` as `f64::clamp` computes it, for `lo <= hi`: `lo`
+/// where `x` is below it, then `hi` where above.
+#[inline(always)]
+pub fn clamp<S: Simd>(s: S, x: S::F, lo: S::F, hi: S::F) -> S::F {
+    let x = s.select(s.lt(x, lo), lo, x);
+    s.select(s.gt(x, hi), hi, x)
+}
+
 /// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
 /// the hierarchy's box test for one ray (sv-trace's `hits`), operation for
 /// operation.

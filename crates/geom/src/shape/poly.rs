@@ -5,7 +5,7 @@
 //! found by safeguarded Newton–bisection started from the chord's zero.
 //! A quadratic's roots come in closed form.
 
-use sv_math::lanes::not;
+use sv_math::lanes::{clamp, max_num, min_num, nan, not};
 use sv_math::simd::Simd;
 
 /// Evaluate `c[0] + c[1] t + … + c[n] tⁿ`. Cubics and quartics by
@@ -284,32 +284,6 @@ fn eval_lanes<S: Simd, const N: usize>(s: S, c: &[S::F; N], t: S::F) -> S::F {
     }
 }
 
-/// Lanes whose value is not a number.
-#[inline(always)]
-pub(crate) fn nan_lanes<S: Simd>(s: S, x: S::F) -> S::M {
-    not(s, s.eq(x, x))
-}
-
-/// `f64::min` in every lane: a number beats one that is not.
-#[inline(always)]
-pub(crate) fn min_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
-    s.select(
-        nan_lanes(s, x),
-        y,
-        s.select(nan_lanes(s, y), x, s.min(x, y)),
-    )
-}
-
-/// `f64::max` in every lane: a number beats one that is not.
-#[inline(always)]
-pub(crate) fn max_num<S: Simd>(s: S, x: S::F, y: S::F) -> S::F {
-    s.select(
-        nan_lanes(s, x),
-        y,
-        s.select(nan_lanes(s, y), x, s.max(x, y)),
-    )
-}
-
 /// [`quadratic_roots_in`] over `[0, hi]` in every lane of `m`, for
 /// quadratics whose `c[2]` is not zero, pushed to `out`.
 #[inline(always)]
@@ -364,7 +338,7 @@ fn roots_by_pieces_lanes<S: Simd, const N: usize, const M: usize>(
         out.push(s, s.and(at_a, out.new_value(s, a)), a);
         // `signum` differs: either is not a number, or their signs do.
         let signs = not(s, s.eq(s.copysign(one, fa), s.copysign(one, fb)));
-        let differ = s.or(s.or(nan_lanes(s, fa), nan_lanes(s, fb)), signs);
+        let differ = s.or(s.or(nan(s, fa), nan(s, fb)), signs);
         let search = s.and(s.andnot(here, at_a), s.and(differ, s.lt(out.n, four)));
         if s.any(search) {
             let root = monotone_root_lanes(s, (c, d), (a, b), (fa, fb), PRECISIONS[N - 4], search);
@@ -416,9 +390,7 @@ fn monotone_root_lanes<S: Simd, const N: usize, const M: usize>(
         let nt = s.sub(t, s.div(f, df));
         let tolerance = s.mul(s.splat(precision), s.max(s.abs(t), one));
         let newton_done = s.le(s.abs(s.sub(nt, t)), tolerance);
-        let clamped = s.select(s.lt(nt, a), a, nt);
-        let clamped = s.select(s.gt(clamped, b), b, clamped);
-        root = s.select(s.and(running, newton_done), clamped, root);
+        root = s.select(s.and(running, newton_done), clamp(s, nt, a, b), root);
         running = s.andnot(running, newton_done);
         let in_bracket = s.and(not(s, s.eq(df, zero)), s.and(s.gt(nt, a), s.lt(nt, b)));
         let next = s.select(in_bracket, nt, s.mul(half, s.add(a, b)));

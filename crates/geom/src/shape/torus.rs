@@ -1,8 +1,8 @@
-use super::poly::{max_num, min_num, nan_lanes, quartic_roots_lanes, roots_in};
+use super::poly::{quartic_roots_lanes, roots_in};
 use super::{segments_by_classification, Seg, SegLanes};
 use crate::body::{nonzero, positive, Warning};
 use crate::Body;
-use sv_math::lanes::{along, dot, mat_vec, not, sub_point, Lanes};
+use sv_math::lanes::{along, clamp, dot, mat_vec, max_num, min_num, nan, not, sub_point, Lanes};
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
@@ -282,14 +282,12 @@ impl Torus {
         let ta = s.select(level, lo, max_num(s, lo, min_num(s, za, zb)));
         let tb = s.select(level, hi, min_num(s, hi, max_num(s, za, zb)));
         let reach = s.select(level, level_reach, s.splat(self.r2));
-        let unknown = s.or(nan_lanes(s, ta), nan_lanes(s, tb));
+        let unknown = s.or(nan(s, ta), nan(s, tb));
         let past = s.gt(ta, tb);
 
         let flat = s.add(s.mul(d[0], d[0]), s.mul(d[1], d[1]));
         let vertex = s.div(s.neg(s.add(s.mul(o[0], d[0]), s.mul(o[1], d[1]))), flat);
-        let clamped = s.select(s.lt(vertex, ta), ta, vertex);
-        let clamped = s.select(s.gt(clamped, tb), tb, clamped);
-        let nearest = s.select(s.gt(flat, zero), clamped, ta);
+        let nearest = s.select(s.gt(flat, zero), clamp(s, vertex, ta, tb), ta);
         let closest = across_lanes(s, o, d, nearest);
         let farthest = max_num(s, across_lanes(s, o, d, ta), across_lanes(s, o, d, tb));
         let margin = s.splat(margin);

@@ -270,6 +270,11 @@ struct RowZones {
     zones: Vec<u32>,
     last: Vec<(u64, f64)>,
     scratch: Vec<u32>,
+    /// Per zone, the row whose plane it was last cut by (one more than
+    /// the row's first ray; 0: none; `u64::MAX`: a plane cuts it across
+    /// no less than its reach) and its reach within that plane (see
+    /// [`RowZones::cut`]).
+    cuts: Vec<(u64, Aabb)>,
 }
 
 impl RowZones {
@@ -334,14 +339,50 @@ impl RowZones {
         self.last.clear();
         self.next = 0;
         let along = grid.axis(rays.start);
-        for &zone in &self.scratch {
-            let (first, last) = grid.rays_near(rays.clone(), plan.reach.of(zone));
+        let (_, column, _) = grid.place(rays.start);
+        let row_start = rays.start - column;
+        for at in 0..self.scratch.len() {
+            let zone = self.scratch[at];
+            let cut = self.cut(model, plan, zone, row_start);
+            let (first, last) = grid.rays_near(rays.clone(), &cut);
+            if first > last {
+                continue;
+            }
             let entry = model.prepared.zone_bounds(zone).min[along] - tolerance;
             self.near.push((first, last, zone, entry));
         }
         self.near
             .sort_unstable_by_key(|&(first, last, zone, _)| (first, last, zone));
         self.rays = rays;
+    }
+
+    /// The reach of zone `zone` within the plane of the row whose first
+    /// ray is `row_start`, padded by the tolerance: a row's rays lie in
+    /// one plane, which cuts a sphere, a mesh or a polyhedron turned to
+    /// the axes across less than their bounds
+    /// ([`Prepared::zone_reach`]). Kept for the rest of the row.
+    fn cut(&mut self, model: &Model, plan: &Plan, zone: u32, row_start: u64) -> Aabb {
+        let prepared = &model.prepared;
+        if self.cuts.is_empty() {
+            let zones = 0..prepared.zone_count() as u32;
+            let never = |zone| (u64::MAX, *plan.reach.of(zone));
+            let cuts = zones.map(|zone| match prepared.zone_narrows(zone) {
+                true => (0, Aabb::EMPTY),
+                false => never(zone),
+            });
+            self.cuts = cuts.collect();
+        }
+        let (row, cut) = &mut self.cuts[zone as usize];
+        if *row != row_start + 1 && *row != u64::MAX {
+            let grid = &plan.grid;
+            let plane = grid.run_box(row_start, grid.row_end(row_start) - 1);
+            let within = prepared
+                .zone_reach(zone, &plane)
+                .padded(prepared.tolerance());
+            *cut = within.intersection(plan.reach.of(zone));
+            *row = row_start + 1;
+        }
+        *cut
     }
 }
 

@@ -297,25 +297,37 @@ impl Prepared {
     }
 
     /// Bounds of the part of zone `zi` inside the finite box `within`:
-    /// its bounds there, and for a zone that an unbounded `+` polyhedron
-    /// (a half-space not square to an axis, say) leaves unbounded, that
-    /// body's part of the box
-    /// ([`sv_geom::shape::Polyhedron::bounds_within`]). Never smaller
-    /// than the part but for rounding: pad it by the tolerance.
+    /// its bounds there, narrowed by each of its `+` bodies' part of the
+    /// box ([`sv_geom::shape::Shape::bounds_within`]): a half-space not
+    /// square to an axis leaves a zone only its side of the box, and a
+    /// grid row's plane cuts a sphere or a mesh across less than its
+    /// bounds. Never smaller than the part but for rounding: pad it by the
+    /// tolerance.
     pub fn zone_reach(&self, zi: u32, within: &Aabb) -> Aabb {
         let z = &self.zones[zi as usize];
         let mut reach = z.bounds.intersection(within);
-        if z.bounds.is_finite() || reach.is_empty() {
-            return reach;
-        }
-        for &b in &self.zone_terms(z)[..usize::from(z.plus)] {
-            if let Shape::Polyhedron(body) = &self.shapes[b as usize] {
-                if !body.bounds().is_finite() {
-                    reach = reach.intersection(&body.bounds_within(&reach));
-                }
+        for shape in self.zone_plus_shapes(z) {
+            if reach.is_empty() {
+                break;
+            }
+            if shape.narrows_within() {
+                reach = reach.intersection(&shape.bounds_within(&reach));
             }
         }
         reach
+    }
+
+    /// Whether [`Prepared::zone_reach`] can give less than zone `zi`'s
+    /// bounds within a box ([`Shape::narrows_within`]).
+    pub fn zone_narrows(&self, zi: u32) -> bool {
+        let z = &self.zones[zi as usize];
+        self.zone_plus_shapes(z).any(Shape::narrows_within)
+    }
+
+    /// The zone's `+` bodies.
+    fn zone_plus_shapes<'a>(&'a self, z: &'a PreparedZone) -> impl Iterator<Item = &'a Shape> {
+        let plus = &self.zone_terms(z)[..usize::from(z.plus)];
+        plus.iter().map(|&b| &self.shapes[b as usize])
     }
 
     /// Bounds of region `r`'s zones in this universe (empty when it has

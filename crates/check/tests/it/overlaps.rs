@@ -550,3 +550,41 @@ REGION FAR = +far
         o.problem.volume
     );
 }
+
+#[test]
+fn a_sphere_and_a_faceted_solid_are_met_across_each_rows_cut() {
+    // Each row of rays lists a sphere or a mesh only where the row's
+    // plane cuts it: the overlaps inside the octahedron `|x| + |y| + |z|
+    // <= 1` (an ARS) must come out whole, a ball at its centre and the
+    // pyramid a box cuts off its corner.
+    let text = "
+BODY octa ARS 3 4  0 0 -1 0 0 -1 0 0 -1 0 0 -1  1 0 0 0 1 0 -1 0 0 0 -1 0  0 0 1 0 0 1 0 0 1 0 0 1
+BODY ball SPH (0,0,0) 0.5
+BODY corner RPP 0.5 2 -2 2 -2 2
+REGION OCTA = +octa
+REGION BALL = +ball
+REGION CORNER = +corner
+";
+    let m = model(text, UniverseChoice::None);
+    let opts = CheckOptions {
+        spacing: Some(0.01),
+        ..CheckOptions::default()
+    };
+    let r = check(&m, &opts).unwrap();
+    assert_eq!(r.overlaps.len(), 2, "{}", r.to_table());
+    let volume_of = |a: &str, b: &str| {
+        let pair = [a.to_string(), b.to_string()];
+        let o = r.overlaps.iter().find(|o| o.regions == pair);
+        o.unwrap_or_else(|| panic!("no {a} × {b}: {}", r.to_table()))
+            .problem
+            .volume
+    };
+    let ball = 4.0 / 3.0 * std::f64::consts::PI * 0.125;
+    let pyramid = 1.0 / 12.0;
+    for (found, exact) in [
+        (volume_of("OCTA", "BALL"), ball),
+        (volume_of("OCTA", "CORNER"), pyramid),
+    ] {
+        assert!((found - exact).abs() < 0.002 * exact, "{found} vs {exact}");
+    }
+}

@@ -11,6 +11,10 @@ use sv_math::{Aabb, DVec3, Ray};
 /// triangles.
 const KEPT_CROSSINGS: usize = 16;
 
+/// The most triangles a mesh's cut by a plane reads
+/// ([`Mesh::bounds_within`]): a grid cuts it once per row.
+const MAX_CUT_TRIANGLES: usize = 256;
+
 #[derive(Clone, Debug)]
 struct Tri {
     v0: DVec3,
@@ -281,6 +285,47 @@ impl Mesh {
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
+
+    /// Whether [`Mesh::bounds_within`] cuts the mesh by a plane: not a
+    /// mesh of more than [`MAX_CUT_TRIANGLES`].
+    pub fn cuts(&self) -> bool {
+        self.tris.len() <= MAX_CUT_TRIANGLES
+    }
+
+    /// Bounds of the mesh's part of the box `within` (see
+    /// [`super::Shape::bounds_within`]). Where the box is flat across an
+    /// axis, the part is the mesh's cut by that plane, which its surface
+    /// bounds: the triangles' edges' crossings of the plane, within the
+    /// box. A larger mesh, or a box not flat, gets the mesh's bounds
+    /// within the box: the cut reads every triangle.
+    pub fn bounds_within(&self, within: &Aabb) -> Aabb {
+        let near = self.bounds.intersection(within);
+        let flat = (0..3).find(|&a| within.min[a] == within.max[a]);
+        let (Some(axis), true) = (flat, self.cuts() && !near.is_empty()) else {
+            return near;
+        };
+        let plane = within.min[axis];
+        let mut cut = Aabb::EMPTY;
+        for tri in &self.tris {
+            let corners = [tri.v0, tri.v0 + tri.e1, tri.v0 + tri.e2];
+            for (k, &p) in corners.iter().enumerate() {
+                let q = corners[(k + 1) % 3];
+                let (side_p, side_q) = (p[axis] - plane, q[axis] - plane);
+                let crossing = if side_p == 0.0 {
+                    p
+                } else if (side_p < 0.0) != (side_q < 0.0) && side_q != 0.0 {
+                    p + (q - p) * (side_p / (side_p - side_q))
+                } else {
+                    continue;
+                };
+                // On the plane exactly, whatever the rounding.
+                let mut on_plane = crossing;
+                on_plane[axis] = plane;
+                cut = cut.including(on_plane);
+            }
+        }
+        cut.intersection(&near)
+    }
 }
 
 /// [`Mesh::shoot_lanes`]' second pass for crossing `(i, t, hit)` of
@@ -402,4 +447,75 @@ pub fn ars_triangles(b: &Body) -> Vec<[DVec3; 3]> {
         tris.push([curve(nc - 1, 0), curve(nc - 1, j), curve(nc - 1, j + 1)]);
     }
     tris
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The octahedron `|x| + |y| + |z| <= 1` as a mesh.
+    fn octahedron() -> Mesh {
+        let tris: Vec<[DVec3; 3]> = (0..8)
+            .map(|k| {
+                let sign = |bit: usize| if k & bit == 0 { 1.0 } else { -1.0 };
+                let (x, y, z) = (DVec3::X * sign(1), DVec3::Y * sign(2), DVec3::Z * sign(4));
+                // Wound outward whatever the octant: the mesh orients
+                // itself, but keep the winding consistent.
+                if sign(1) * sign(2) * sign(4) > 0.0 {
+                    [x, y, z]
+                } else {
+                    [x, z, y]
+                }
+            })
+            .collect();
+        Mesh::new(&tris)
+    }
+
+    #[test]
+    fn a_plane_cuts_the_mesh_across_its_section() {
+        let mesh = octahedron();
+        let plane = Aabb::new(DVec3::new(-5.0, -5.0, 0.5), DVec3::new(5.0, 5.0, 0.5));
+        let cut = mesh.bounds_within(&plane);
+        // |x| + |y| <= 0.5 at z = 0.5.
+        assert!(
+            (cut.min - DVec3::new(-0.5, -0.5, 0.5)).length() < 1e-12,
+            "{cut:?}"
+        );
+        assert!(
+            (cut.max - DVec3::new(0.5, 0.5, 0.5)).length() < 1e-12,
+            "{cut:?}"
+        );
+        let beside = Aabb::new(DVec3::new(-5.0, -5.0, 1.5), DVec3::new(5.0, 5.0, 1.5));
+        assert!(mesh.bounds_within(&beside).is_empty());
+        // A box not flat gets the mesh's bounds within it.
+        let thick = Aabb::new(DVec3::new(-5.0, -5.0, 0.5), DVec3::new(5.0, 5.0, 0.6));
+        assert_eq!(
+            mesh.bounds_within(&thick),
+            mesh.bounds().intersection(&thick)
+        );
+    }
+
+    proptest! {
+        /// Every point of the mesh on a plane across an axis, within the
+        /// box, lies in the cut: a point of the octahedron, and a box
+        /// about it flat across one axis.
+        #[test]
+        fn the_cut_holds_every_point_of_the_section(
+            axis in 0usize..3,
+            towards in prop::array::uniform3(-1.0..1.0f64),
+            depth in 0.0..1.0f64,
+            below in prop::array::uniform3(0.0..1.5f64),
+            above in prop::array::uniform3(0.0..1.5f64),
+        ) {
+            let mesh = octahedron();
+            let towards = DVec3::from(towards);
+            prop_assume!(towards.abs().element_sum() > 1e-3);
+            let p = towards * (depth / towards.abs().element_sum());
+            let mut within = Aabb::new(p - DVec3::from(below), p + DVec3::from(above));
+            (within.min[axis], within.max[axis]) = (p[axis], p[axis]);
+            let cut = mesh.bounds_within(&within);
+            prop_assert!(cut.padded(1e-12).contains(p), "{p} outside {cut:?}");
+        }
+    }
 }

@@ -149,6 +149,37 @@ impl Shape {
         }
     }
 
+    /// Bounds of the body's part of the box `within`, never smaller than
+    /// that part but for rounding (pad them by a tolerance): a
+    /// polyhedron's planes' parts of the box
+    /// ([`Polyhedron::bounds_within`]), a sphere's part worked out axis by
+    /// axis, and where the box is flat across an axis (the plane a grid
+    /// row's rays lie in) a mesh's crossings of that plane; the body's
+    /// bounds within the box for the other shapes.
+    pub fn bounds_within(&self, within: &Aabb) -> Aabb {
+        match self {
+            Shape::Polyhedron(s) => s.bounds_within(within),
+            Shape::Sphere(s) => s.bounds_within(within),
+            Shape::Mesh(s) => s.bounds_within(within),
+            _ => self.bounds().intersection(within),
+        }
+    }
+
+    /// Whether [`Shape::bounds_within`] can give less than the body's
+    /// bounds within a box: not for a polyhedron square to the axes, nor
+    /// the shapes it gives the bounds of.
+    pub fn narrows_within(&self) -> bool {
+        match self {
+            Shape::Polyhedron(s) => s
+                .planes()
+                .iter()
+                .any(|plane| plane.n.abs().max_element() != 1.0),
+            Shape::Sphere(_) => true,
+            Shape::Mesh(s) => s.cuts(),
+            _ => false,
+        }
+    }
+
     /// A few points whose convex hull holds the body, tighter than its
     /// bounds' corners for a body turned to the axes, where it has such a
     /// set: a bounded polyhedron's corners (see [`Polyhedron::corners`],

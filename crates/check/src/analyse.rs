@@ -110,8 +110,10 @@ impl<'a> RayCheck<'a> {
     /// The partitions of each of `rays` within `(tmin, tmax)` (unclipped)
     /// into the same places of `out`, several at once where the processor
     /// can: `zones` must hold every zone whose bounds any of them meets
-    /// there; `None`, walk the hierarchy. Only the regions and distances
-    /// are kept: a check reads nothing else. Returns the rays (bit `k` for
+    /// there; `None`, walk the hierarchy. The rays share their direction
+    /// (those a check fires together run along one axis). Only the
+    /// regions and distances are kept: a check reads nothing else.
+    /// Returns the rays (bit `k` for
     /// ray `k`) whose partitions are the ray before's, to the bit, left
     /// empty in `out` (see [`sv_trace::Prepared::stretches_of_rays_in`]).
     pub(crate) fn partitions_of_rays(
@@ -124,7 +126,12 @@ impl<'a> RayCheck<'a> {
     ) -> u64 {
         let prepared = &self.model.prepared;
         match zones {
-            Some(zones) => prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out),
+            Some(zones) => {
+                // A check's rays run along the axes: those fired together
+                // share their direction.
+                let rays = (rays, true);
+                prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out)
+            }
             None => {
                 for (ray, parts) in rays.iter().zip(out) {
                     prepared.partitions(ray, tmin, tmax, &mut self.s, parts);

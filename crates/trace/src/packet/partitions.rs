@@ -15,8 +15,15 @@ use sv_math::simd::Simd;
 use sv_math::Ray;
 
 /// [`partitions_any`] or [`stretches_any`].
-type PacketsOfRays =
-    fn(&Prepared, &[u32], &[Ray], f64, f64, &mut Scratch, &mut [Vec<Partition>]) -> Option<u64>;
+type PacketsOfRays = fn(
+    &Prepared,
+    &[u32],
+    (&[Ray], bool),
+    f64,
+    f64,
+    &mut Scratch,
+    &mut [Vec<Partition>],
+) -> Option<u64>;
 
 impl Prepared {
     /// [`Prepared::partitions_in`] for each of `rays`, into the same
@@ -34,6 +41,7 @@ impl Prepared {
         out: &mut [Vec<Partition>],
     ) {
         // Partitions with their bodies are never left as the ray before's.
+        let rays = (rays, false);
         self.partitions_of_rays_with(partitions_any, zones, rays, (tmin, tmax), s, out);
     }
 
@@ -47,15 +55,24 @@ impl Prepared {
     /// stretches are those of the ray before them, to the bit: their
     /// lists in `out` are left empty. Neighbouring rays of a row often
     /// cross the same faces, square to them, at the same distances.
+    ///
+    /// With `shared_direction`, every ray has the first ray's direction,
+    /// to the bit (a check's rays do): the lanes take it from the first
+    /// without comparing the rays.
     pub fn stretches_of_rays_in(
         &self,
         zones: &[u32],
-        rays: &[Ray],
+        (rays, shared_direction): (&[Ray], bool),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) -> u64 {
+        debug_assert!(
+            !shared_direction || rays.iter().all(|ray| ray.dir == rays[0].dir),
+            "rays said to share a direction that do not"
+        );
+        let rays = (rays, shared_direction);
         self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out)
     }
 
@@ -67,7 +84,7 @@ impl Prepared {
         &self,
         packets: PacketsOfRays,
         zones: &[u32],
-        rays: &[Ray],
+        (rays, shared_direction): (&[Ray], bool),
         (tmin, tmax): (f64, f64),
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
@@ -76,7 +93,8 @@ impl Prepared {
             out.len() >= rays.len(),
             "a list of partitions for every ray"
         );
-        if let Some(repeats) = packets(self, zones, rays, tmin, tmax, s, out) {
+        let packets_of = (rays, shared_direction);
+        if let Some(repeats) = packets(self, zones, packets_of, tmin, tmax, s, out) {
             return repeats;
         }
         for (ray, parts) in rays.iter().zip(out) {
@@ -88,14 +106,15 @@ impl Prepared {
     /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays
     /// when `BODIES`, else [`Prepared::stretches_of_rays_in`]: the ends'
     /// bodies and faces are kept only when `BODIES`, and rays' stretches
-    /// are left as the ray before's only when not.
+    /// are left as the ray before's only when not. With
+    /// `shared_direction`, the first ray's direction is every lane's.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn packet_partitions<S: Simd, const BODIES: bool>(
         &self,
         s: S,
         zones: &[u32],
-        rays: &[Ray],
+        (rays, shared_direction): (&[Ray], bool),
         tmin: f64,
         tmax: f64,
         sc: &mut Scratch,
@@ -108,7 +127,7 @@ impl Prepared {
             .zip(out.chunks_mut(S::LANES))
             .enumerate()
         {
-            let r = lanes_of(s, packet);
+            let r = lanes_of(s, packet, shared_direction);
             sc.lane_casts.new_packet();
             let active = (1u32 << packet.len()) - 1;
             parts.iter_mut().for_each(Vec::clear);
@@ -376,7 +395,7 @@ fn lane_span<const BODIES: bool>(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span
 compiled_for_each! {
     fn partitions_avx512, partitions_avx2, partitions_any => packet_partitions::<_, true>(
         zones: &[u32],
-        rays: &[Ray],
+        rays: (&[Ray], bool),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
@@ -387,7 +406,7 @@ compiled_for_each! {
 compiled_for_each! {
     fn stretches_avx512, stretches_avx2, stretches_any => packet_partitions::<_, false>(
         zones: &[u32],
-        rays: &[Ray],
+        rays: (&[Ray], bool),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,

@@ -325,7 +325,7 @@ impl Prepared {
     ) -> usize {
         let mut found = 0;
         for (p, chunk) in rays.chunks(S::LANES).enumerate() {
-            let lanes = lanes_of(s, chunk);
+            let lanes = lanes_of(s, chunk, false);
             let active = (1u32 << chunk.len()) - 1;
             let index = std::array::from_fn(|j| (p * S::LANES + j) as u32);
             found += self.packet(
@@ -649,15 +649,16 @@ fn affine<S: Simd>(s: S, b: f64, r: f64, u: f64, sx: S::F, sy: S::F) -> S::F {
 }
 
 /// A packet of rays in lanes. A short packet repeats its last ray in the
-/// lanes left.
+/// lanes left. With `shared_direction` (every ray has the first's, to
+/// the bit), the first ray's is copied to every lane unread.
 #[inline(always)]
-pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
+pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray], shared_direction: bool) -> Lanes<S> {
     if rays.len() < S::LANES {
         let mut full = [rays[rays.len() - 1]; MAX_LANES];
         full[..rays.len()].copy_from_slice(rays);
-        return gather_lanes(s, Ray::coordinates(&full[..S::LANES]));
+        return gather_lanes(s, Ray::coordinates(&full[..S::LANES]), shared_direction);
     }
-    gather_lanes(s, Ray::coordinates(&rays[..S::LANES]))
+    gather_lanes(s, Ray::coordinates(&rays[..S::LANES]), shared_direction)
 }
 
 /// The rays of [`Ray::coordinates`] `v` in lanes, each coordinate read
@@ -668,15 +669,16 @@ pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray]) -> Lanes<S> {
 /// every lane instead: a gather reads one value at a time, and six of them
 /// cost more than comparing the rays.
 #[inline(always)]
-fn gather_lanes<S: Simd>(s: S, v: &[f64]) -> Lanes<S> {
+fn gather_lanes<S: Simd>(s: S, v: &[f64], shared_direction: bool) -> Lanes<S> {
     let o = [s.gather(v, 0, 9), s.gather(v, 1, 9), s.gather(v, 2, 9)];
     let first = &v[3..9];
-    let shared = v.chunks_exact(9).skip(1).all(|ray| {
-        ray[3..9]
-            .iter()
-            .zip(first)
-            .all(|(a, b)| a.to_bits() == b.to_bits())
-    });
+    let shared = shared_direction
+        || v.chunks_exact(9).skip(1).all(|ray| {
+            ray[3..9]
+                .iter()
+                .zip(first)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        });
     if shared {
         return Lanes {
             o,

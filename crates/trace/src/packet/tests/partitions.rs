@@ -33,7 +33,7 @@ fn with_bodies<S: Simd>(
     sc: &mut Scratch,
     out: &mut [Vec<Partition>],
 ) {
-    let repeats = p.packet_partitions::<S, true>(s, zones, rays, tmin, tmax, sc, out);
+    let repeats = p.packet_partitions::<S, true>(s, zones, (rays, false), tmin, tmax, sc, out);
     assert_eq!(repeats, 0, "partitions with bodies are all made");
 }
 
@@ -65,7 +65,15 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
         let all: Vec<u32> = (0..p.zones.len() as u32).collect();
         let mut s = Scratch::new(&p);
         for batch in 0..60 {
-            let (rays, _, _) = rays(&mut rng, batch);
+            let (mut rays, _, _) = rays(&mut rng, batch);
+            // Every third batch's rays take the first's direction, and the
+            // stretches are then asked for as of rays that share it.
+            let shared = batch % 3 == 2;
+            if shared {
+                let dir = rays[0].dir;
+                rays.iter_mut()
+                    .for_each(|ray| *ray = Ray::new(ray.origin, dir));
+            }
             let (tmin, tmax) = match batch % 7 {
                 3 => (0.5, f64::INFINITY),
                 5 => (0.0, 3.0),
@@ -116,7 +124,7 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 let repeats = p.packet_partitions::<_, false>(
                     Portable::<4>,
                     zones,
-                    rays,
+                    (rays, shared),
                     tmin,
                     tmax,
                     &mut s,
@@ -125,7 +133,7 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 repeated.set(repeated.get() + repeat(o, repeats));
             });
             check_stretches("stretches, the widest here", &mut |o| {
-                let repeats = p.stretches_of_rays_in(&all, &rays, tmin, tmax, &mut s, o);
+                let repeats = p.stretches_of_rays_in(&all, (&rays, shared), tmin, tmax, &mut s, o);
                 repeated.set(repeated.get() + repeat(o, repeats));
             });
             #[cfg(target_arch = "x86_64")]
@@ -134,17 +142,18 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 // there.
                 if let Some(t) = sv_math::simd::Avx512::detect() {
                     check("AVX-512", &mut |o| unsafe {
-                        partitions_avx512(&p, t, &all, &rays, tmin, tmax, &mut s, o);
+                        partitions_avx512(&p, t, &all, (&rays, false), tmin, tmax, &mut s, o);
                     });
                 }
                 if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("AVX2", &mut |o| unsafe {
-                        partitions_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o);
+                        partitions_avx2(&p, t, &all, (&rays, false), tmin, tmax, &mut s, o);
                     });
                     check_stretches("stretches, AVX2", &mut |o| {
                         // SAFETY: as above.
-                        let repeats =
-                            unsafe { stretches_avx2(&p, t, &all, &rays, tmin, tmax, &mut s, o) };
+                        let repeats = unsafe {
+                            stretches_avx2(&p, t, &all, (&rays, shared), tmin, tmax, &mut s, o)
+                        };
                         repeated.set(repeated.get() + repeat(o, repeats));
                     });
                 }

@@ -2,7 +2,7 @@
 
 use crate::model::{Hull, Model};
 use sv_math::Ray;
-use sv_trace::{Partition, Scratch};
+use sv_trace::{Partition, RaysShare, Scratch};
 
 /// What kind of problem a stretch of ray is.
 #[derive(
@@ -110,16 +110,16 @@ impl<'a> RayCheck<'a> {
     /// The partitions of each of `rays` within `(tmin, tmax)` (unclipped)
     /// into the same places of `out`, several at once where the processor
     /// can: `zones` must hold every zone whose bounds any of them meets
-    /// there; `None`, walk the hierarchy. The rays share their direction
-    /// (those a check fires together run along one axis). Only the
+    /// there; `None`, walk the hierarchy. `share` says what the rays
+    /// share (those a check fires together run along one axis). Only the
     /// regions and distances are kept: a check reads nothing else.
-    /// Returns the rays (bit `k` for
-    /// ray `k`) whose partitions are the ray before's, to the bit, left
-    /// empty in `out` (see [`sv_trace::Prepared::stretches_of_rays_in`]).
+    /// Returns the rays (bit `k` for ray `k`) whose partitions are the ray
+    /// before's, to the bit, left empty in `out` (see
+    /// [`sv_trace::Prepared::stretches_of_rays_in`]).
     pub(crate) fn partitions_of_rays(
         &mut self,
         zones: Option<&[u32]>,
-        rays: &[Ray],
+        (rays, share): (&[Ray], RaysShare),
         tmin: f64,
         tmax: f64,
         out: &mut [Vec<Partition>],
@@ -127,9 +127,7 @@ impl<'a> RayCheck<'a> {
         let prepared = &self.model.prepared;
         match zones {
             Some(zones) => {
-                // A check's rays run along the axes: those fired together
-                // share their direction.
-                let rays = (rays, true);
+                let rays = (rays, share);
                 prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out)
             }
             None => {

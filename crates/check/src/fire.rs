@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use sv_math::{Aabb, DVec3, Ray};
-use sv_trace::{Partition, Prepared};
+use sv_trace::{Partition, Prepared, RaysShare};
 
 /// The summed stretches of one kind of finding.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -500,7 +500,8 @@ fn fire_grid_rays(
             for (ray, index) in rays.iter_mut().zip(packet.clone()) {
                 ray.origin[run.axes.0] = grid.along_row(&run, index);
             }
-            let repeats = ray_check.partitions_of_rays(zones, rays, 0.0, t1, parts);
+            let row = (&rays[..], RaysShare::AllBut(run.axes.0));
+            let repeats = ray_check.partitions_of_rays(zones, row, 0.0, t1, parts);
             // Where a packet meets nothing (a third of some grids' packets)
             // its rays are not classified one by one.
             let met_nothing = parts[..rays.len()].iter().all(Vec::is_empty);

@@ -25,7 +25,7 @@ use crate::fire::ZoneReach;
 use crate::grid::Grid;
 use std::ops::Range;
 use sv_math::{Aabb, Ray};
-use sv_trace::Partition;
+use sv_trace::{Partition, RaysShare};
 
 /// What a ray sees, in short: its regions in order of entry and how each
 /// meets the one before (overlapping it, touching it within `tol`, or
@@ -339,7 +339,9 @@ impl Refinement {
             .resize_with(pieces.len().max(bundle.parts.len()), Vec::new);
         let zones = zones.map(|range| &bundle.zones[range]);
         let parts = &mut bundle.parts;
-        let repeats = ray_check.partitions_of_rays(zones, &bundle.rays, 0.0, tmax, parts);
+        // The bundle's rays lie in one tile: along one axis.
+        let rays = (&bundle.rays[..], RaysShare::Direction);
+        let repeats = ray_check.partitions_of_rays(zones, rays, 0.0, tmax, parts);
         let mut last_sig = 0;
         let lanes = pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts);
         for (lane, ((piece, ray), parts)) in lanes.enumerate() {

@@ -39,7 +39,7 @@ pub use frustum::{Frustum, RasterExtent};
 pub use hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use occlusion::{LightAt, Occluders, ShadowBuffers};
-pub use packet::{Tile, FACING_MISS};
+pub use packet::{RaysShare, Tile, FACING_MISS};
 pub use prepare::{PrepareError, PrepareOptions, Prepared};
 pub use sv_geom::Warning;
 

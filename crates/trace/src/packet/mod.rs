@@ -35,6 +35,36 @@ use sv_math::lanes::{along, box_lanes, dot, not, Lanes, MAX_LANES};
 use sv_math::simd::Simd;
 use sv_math::{DVec3, Ray};
 
+/// What the rays traced together share, to the bit, as their caller
+/// knows: the lanes take it from the first ray without reading the rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RaysShare {
+    /// Nothing known: the lanes compare the rays' directions.
+    Unknown,
+    /// Every ray has the first ray's direction.
+    Direction,
+    /// Every ray has the first ray's direction and origin but for the
+    /// origin's coordinate along this axis: the rays of a grid's row.
+    AllBut(usize),
+}
+
+impl RaysShare {
+    /// Whether `rays` do share what this says.
+    pub fn holds_for(self, rays: &[Ray]) -> bool {
+        let Some(first) = rays.first() else {
+            return true;
+        };
+        rays.iter().all(|ray| match self {
+            RaysShare::Unknown => true,
+            RaysShare::Direction => ray.dir == first.dir,
+            RaysShare::AllBut(varying) => {
+                let fixed = (0..3).filter(|&a| a != varying);
+                ray.dir == first.dir && fixed.into_iter().all(|a| ray.origin[a] == first.origin[a])
+            }
+        })
+    }
+}
+
 /// The entry points of a packet method, one per instruction set:
 /// `$avx512` and `$avx2` call `Prepared::$method` with the token, compiled
 /// with that instruction set enabled, so that everything inlined into them

@@ -5,7 +5,7 @@
 //! goes to the scalar code.
 
 use super::primary::lanes_of;
-use super::{within, End, SpanLanes};
+use super::{within, End, RaysShare, SpanLanes};
 use crate::hit::{Partition, Scratch};
 use crate::prepare::Prepared;
 use crate::query::{insert_by_entry, insert_spans};
@@ -18,7 +18,7 @@ use sv_math::Ray;
 type PacketsOfRays = fn(
     &Prepared,
     &[u32],
-    (&[Ray], bool),
+    (&[Ray], RaysShare),
     f64,
     f64,
     &mut Scratch,
@@ -41,7 +41,7 @@ impl Prepared {
         out: &mut [Vec<Partition>],
     ) {
         // Partitions with their bodies are never left as the ray before's.
-        let rays = (rays, false);
+        let rays = (rays, RaysShare::Unknown);
         self.partitions_of_rays_with(partitions_any, zones, rays, (tmin, tmax), s, out);
     }
 
@@ -56,23 +56,23 @@ impl Prepared {
     /// lists in `out` are left empty. Neighbouring rays of a row often
     /// cross the same faces, square to them, at the same distances.
     ///
-    /// With `shared_direction`, every ray has the first ray's direction,
-    /// to the bit (a check's rays do): the lanes take it from the first
-    /// without comparing the rays.
+    /// `share` says what the rays share, to the bit (a check's rays fired
+    /// together share their direction, and a row's all but one
+    /// coordinate): the lanes take it from the first ray unread.
     pub fn stretches_of_rays_in(
         &self,
         zones: &[u32],
-        (rays, shared_direction): (&[Ray], bool),
+        (rays, share): (&[Ray], RaysShare),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
     ) -> u64 {
         debug_assert!(
-            !shared_direction || rays.iter().all(|ray| ray.dir == rays[0].dir),
-            "rays said to share a direction that do not"
+            share.holds_for(rays),
+            "rays do not share what {share:?} says"
         );
-        let rays = (rays, shared_direction);
+        let rays = (rays, share);
         self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out)
     }
 
@@ -84,7 +84,7 @@ impl Prepared {
         &self,
         packets: PacketsOfRays,
         zones: &[u32],
-        (rays, shared_direction): (&[Ray], bool),
+        (rays, share): (&[Ray], RaysShare),
         (tmin, tmax): (f64, f64),
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
@@ -93,7 +93,7 @@ impl Prepared {
             out.len() >= rays.len(),
             "a list of partitions for every ray"
         );
-        let packets_of = (rays, shared_direction);
+        let packets_of = (rays, share);
         if let Some(repeats) = packets(self, zones, packets_of, tmin, tmax, s, out) {
             return repeats;
         }
@@ -106,15 +106,15 @@ impl Prepared {
     /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays
     /// when `BODIES`, else [`Prepared::stretches_of_rays_in`]: the ends'
     /// bodies and faces are kept only when `BODIES`, and rays' stretches
-    /// are left as the ray before's only when not. With
-    /// `shared_direction`, the first ray's direction is every lane's.
+    /// are left as the ray before's only when not. What `share` says the
+    /// rays share is taken from the first ray.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn packet_partitions<S: Simd, const BODIES: bool>(
         &self,
         s: S,
         zones: &[u32],
-        (rays, shared_direction): (&[Ray], bool),
+        (rays, share): (&[Ray], RaysShare),
         tmin: f64,
         tmax: f64,
         sc: &mut Scratch,
@@ -127,7 +127,7 @@ impl Prepared {
             .zip(out.chunks_mut(S::LANES))
             .enumerate()
         {
-            let r = lanes_of(s, packet, shared_direction);
+            let r = lanes_of(s, packet, share);
             sc.lane_casts.new_packet();
             let active = (1u32 << packet.len()) - 1;
             parts.iter_mut().for_each(Vec::clear);
@@ -395,7 +395,7 @@ fn lane_span<const BODIES: bool>(ends: &[[f64; MAX_LANES]; 6], j: usize) -> Span
 compiled_for_each! {
     fn partitions_avx512, partitions_avx2, partitions_any => packet_partitions::<_, true>(
         zones: &[u32],
-        rays: (&[Ray], bool),
+        rays: (&[Ray], RaysShare),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,
@@ -406,7 +406,7 @@ compiled_for_each! {
 compiled_for_each! {
     fn stretches_avx512, stretches_avx2, stretches_any => packet_partitions::<_, false>(
         zones: &[u32],
-        rays: (&[Ray], bool),
+        rays: (&[Ray], RaysShare),
         tmin: f64,
         tmax: f64,
         s: &mut Scratch,

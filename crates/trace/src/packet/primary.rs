@@ -1,7 +1,7 @@
 //! Primary rays: a tile's rays traced in packets through its sorted list
 //! of zones, or through the hierarchy when the tile is crowded.
 
-use super::{lane_rays, NearestHit};
+use super::{lane_rays, NearestHit, RaysShare};
 use crate::bvh::{Child, WideNode, STACK, WIDTH};
 use crate::hit::{Hit, Scratch};
 use crate::prepare::Prepared;
@@ -325,7 +325,7 @@ impl Prepared {
     ) -> usize {
         let mut found = 0;
         for (p, chunk) in rays.chunks(S::LANES).enumerate() {
-            let lanes = lanes_of(s, chunk, false);
+            let lanes = lanes_of(s, chunk, RaysShare::Unknown);
             let active = (1u32 << chunk.len()) - 1;
             let index = std::array::from_fn(|j| (p * S::LANES + j) as u32);
             found += self.packet(
@@ -649,16 +649,16 @@ fn affine<S: Simd>(s: S, b: f64, r: f64, u: f64, sx: S::F, sy: S::F) -> S::F {
 }
 
 /// A packet of rays in lanes. A short packet repeats its last ray in the
-/// lanes left. With `shared_direction` (every ray has the first's, to
-/// the bit), the first ray's is copied to every lane unread.
+/// lanes left. What the caller says the rays share (see [`RaysShare`]) is
+/// copied from the first ray to every lane unread.
 #[inline(always)]
-pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray], shared_direction: bool) -> Lanes<S> {
+pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray], share: RaysShare) -> Lanes<S> {
     if rays.len() < S::LANES {
         let mut full = [rays[rays.len() - 1]; MAX_LANES];
         full[..rays.len()].copy_from_slice(rays);
-        return gather_lanes(s, Ray::coordinates(&full[..S::LANES]), shared_direction);
+        return gather_lanes(s, Ray::coordinates(&full[..S::LANES]), share);
     }
-    gather_lanes(s, Ray::coordinates(&rays[..S::LANES]), shared_direction)
+    gather_lanes(s, Ray::coordinates(&rays[..S::LANES]), share)
 }
 
 /// The rays of [`Ray::coordinates`] `v` in lanes, each coordinate read
@@ -667,12 +667,17 @@ pub(super) fn lanes_of<S: Simd>(s: S, rays: &[Ray], shared_direction: bool) -> L
 /// stalled every packet.) Where the rays share their direction, as a
 /// grid's and an orthographic view's do, the first ray's is copied to
 /// every lane instead: a gather reads one value at a time, and six of them
-/// cost more than comparing the rays.
+/// cost more than comparing the rays. What `share` says the rays share is
+/// copied without comparing.
 #[inline(always)]
-fn gather_lanes<S: Simd>(s: S, v: &[f64], shared_direction: bool) -> Lanes<S> {
-    let o = [s.gather(v, 0, 9), s.gather(v, 1, 9), s.gather(v, 2, 9)];
+fn gather_lanes<S: Simd>(s: S, v: &[f64], share: RaysShare) -> Lanes<S> {
+    let origin = |a: usize| match share {
+        RaysShare::AllBut(varying) if a != varying => s.splat(v[a]),
+        _ => s.gather(v, a, 9),
+    };
+    let o = [origin(0), origin(1), origin(2)];
     let first = &v[3..9];
-    let shared = shared_direction
+    let shared = share != RaysShare::Unknown
         || v.chunks_exact(9).skip(1).all(|ray| {
             ray[3..9]
                 .iter()

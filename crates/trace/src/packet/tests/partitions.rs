@@ -33,7 +33,8 @@ fn with_bodies<S: Simd>(
     sc: &mut Scratch,
     out: &mut [Vec<Partition>],
 ) {
-    let repeats = p.packet_partitions::<S, true>(s, zones, (rays, false), tmin, tmax, sc, out);
+    let repeats =
+        p.packet_partitions::<S, true>(s, zones, (rays, RaysShare::Unknown), tmin, tmax, sc, out);
     assert_eq!(repeats, 0, "partitions with bodies are all made");
 }
 
@@ -66,13 +67,25 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
         let mut s = Scratch::new(&p);
         for batch in 0..60 {
             let (mut rays, _, _) = rays(&mut rng, batch);
-            // Every third batch's rays take the first's direction, and the
-            // stretches are then asked for as of rays that share it.
-            let shared = batch % 3 == 2;
-            if shared {
-                let dir = rays[0].dir;
-                rays.iter_mut()
-                    .for_each(|ray| *ray = Ray::new(ray.origin, dir));
+            // Some batches' rays take the first's direction, some its
+            // origin too but for one coordinate (a row); the stretches are
+            // then asked for as of rays that share it.
+            let shared = match batch % 6 {
+                2 => RaysShare::Direction,
+                5 => RaysShare::AllBut(batch / 6 % 3),
+                _ => RaysShare::Unknown,
+            };
+            let first = rays[0];
+            for (k, ray) in rays.iter_mut().enumerate() {
+                *ray = match shared {
+                    RaysShare::Unknown => continue,
+                    RaysShare::Direction => Ray::new(ray.origin, first.dir),
+                    RaysShare::AllBut(varying) => {
+                        let mut origin = first.origin;
+                        origin[varying] += 0.05 * (k as f64 - 18.0);
+                        Ray::new(origin, first.dir)
+                    }
+                };
             }
             let (tmin, tmax) = match batch % 7 {
                 3 => (0.5, f64::INFINITY),
@@ -142,12 +155,30 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                 // there.
                 if let Some(t) = sv_math::simd::Avx512::detect() {
                     check("AVX-512", &mut |o| unsafe {
-                        partitions_avx512(&p, t, &all, (&rays, false), tmin, tmax, &mut s, o);
+                        partitions_avx512(
+                            &p,
+                            t,
+                            &all,
+                            (&rays, RaysShare::Unknown),
+                            tmin,
+                            tmax,
+                            &mut s,
+                            o,
+                        );
                     });
                 }
                 if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("AVX2", &mut |o| unsafe {
-                        partitions_avx2(&p, t, &all, (&rays, false), tmin, tmax, &mut s, o);
+                        partitions_avx2(
+                            &p,
+                            t,
+                            &all,
+                            (&rays, RaysShare::Unknown),
+                            tmin,
+                            tmax,
+                            &mut s,
+                            o,
+                        );
                     });
                     check_stretches("stretches, AVX2", &mut |o| {
                         // SAFETY: as above.

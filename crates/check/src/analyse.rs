@@ -153,7 +153,11 @@ impl<'a> RayCheck<'a> {
         self.findings.clear();
         std::mem::swap(&mut self.parts, parts);
         self.clip(tmin, tmax);
-        self.classify(ray, tmin, tmax, tol);
+        // Most rays meet one region or none: without a universe they find
+        // nothing, and are not classified.
+        if self.parts.len() > 1 || self.model.hull.is_some() {
+            self.classify(ray, tmin, tmax, tol);
+        }
     }
 
     /// [`RayCheck::run_on`], unless `follows` (the last ray run on had the

@@ -529,12 +529,30 @@ fn fire_grid_rays(
 }
 
 /// Add the findings of ray `index` (standing for `area`) to `sums`, and
-/// mark the regions it met in `seen` (`None`: they are marked).
+/// mark the regions it met in `seen` (`None`: they are marked). Most rays
+/// find nothing and meet regions already marked: they return here, at
+/// the caller, without a call.
+#[inline(always)]
 fn gather(
     ray_check: &RayCheck,
     ray: &Ray,
     index: u64,
     area: f64,
+    sums: &mut KindSums,
+    seen: Option<&Met>,
+) {
+    let marking = seen.filter(|seen| !seen.all_marked());
+    if marking.is_some() || !ray_check.findings.is_empty() {
+        gather_findings(ray_check, ray, (index, area), sums, marking);
+    }
+}
+
+/// [`gather`] of a ray that finds something or meets regions to mark.
+#[inline(never)]
+fn gather_findings(
+    ray_check: &RayCheck,
+    ray: &Ray,
+    (index, area): (u64, f64),
     sums: &mut KindSums,
     seen: Option<&Met>,
 ) {
@@ -564,9 +582,14 @@ impl Met {
         }
     }
 
+    /// Whether every region is marked.
+    fn all_marked(&self) -> bool {
+        self.unmarked.load(Ordering::Relaxed) == 0
+    }
+
     /// Mark the regions of `parts`.
     fn mark(&self, parts: &[Partition]) {
-        if self.unmarked.load(Ordering::Relaxed) == 0 {
+        if self.all_marked() {
             return;
         }
         for part in parts {

@@ -155,7 +155,10 @@ impl Prepared {
             while made != 0 {
                 let j = made.trailing_zeros() as usize;
                 made &= made - 1;
-                self.union_in_place(&mut parts[j]);
+                // One stretch or none is its own union.
+                if parts[j].len() > 1 {
+                    self.union_in_place(&mut parts[j]);
+                }
             }
             if held.alike != 0 {
                 repeats |= u64::from(held.alike) << (at * S::LANES);

@@ -93,6 +93,13 @@ impl<'a> RayCheck<'a> {
 
     /// The partitions clipped to `(tmin, tmax)`.
     fn clip(&mut self, tmin: f64, tmax: f64) {
+        // Most rays' partitions lie within their range: read, not
+        // rewritten.
+        let within = |p: &Partition| p.span.a.t >= tmin && p.span.b.t <= tmax;
+        let clipped = |p: &Partition| within(p) && p.span.b.t > p.span.a.t;
+        if self.parts.iter().all(clipped) {
+            return;
+        }
         self.parts.retain_mut(|p| {
             p.span.a.t = p.span.a.t.max(tmin);
             p.span.b.t = p.span.b.t.min(tmax);

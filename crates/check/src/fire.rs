@@ -610,8 +610,9 @@ impl Met {
 pub(crate) struct KindSums {
     sums: Vec<(FindingKind, Acc)>,
     /// Per slot, one more than the index in `sums` of the last kind that
-    /// hashed to it (0: none yet).
-    slots: [u32; KIND_SLOTS],
+    /// hashed to it (0: none yet, or an index past 254). Bytes: the table
+    /// is made and moved for every chunk.
+    slots: [u8; KIND_SLOTS],
 }
 
 /// Slots of [`KindSums`]'s table: a power of two.
@@ -653,11 +654,12 @@ impl KindSums {
     ) {
         let slot = kind_slot(kind);
         let at = match self.slots[slot].checked_sub(1) {
-            Some(at) if self.sums[at as usize].0 == kind => Some(at as usize),
+            Some(at) if self.sums[usize::from(at)].0 == kind => Some(usize::from(at)),
             _ => self.sums.iter().position(|(k, _)| *k == kind),
         };
+        let slot_of = |at: usize| u8::try_from(at + 1).unwrap_or(0);
         let Some(at) = at else {
-            self.slots[slot] = self.sums.len() as u32 + 1;
+            self.slots[slot] = slot_of(self.sums.len());
             let stretch = Acc {
                 total: length,
                 weighted: length * area,
@@ -669,7 +671,7 @@ impl KindSums {
             self.sums.push((kind, stretch));
             return;
         };
-        self.slots[slot] = at as u32 + 1;
+        self.slots[slot] = slot_of(at);
         let sum = &mut self.sums[at].1;
         sum.total += length;
         sum.weighted += length * area;

@@ -151,34 +151,17 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
             });
             #[cfg(target_arch = "x86_64")]
             {
+                let unknown = (&rays[..], RaysShare::Unknown);
                 // SAFETY (both): the tokens prove the instructions are
                 // there.
                 if let Some(t) = sv_math::simd::Avx512::detect() {
                     check("AVX-512", &mut |o| unsafe {
-                        partitions_avx512(
-                            &p,
-                            t,
-                            &all,
-                            (&rays, RaysShare::Unknown),
-                            tmin,
-                            tmax,
-                            &mut s,
-                            o,
-                        );
+                        partitions_avx512(&p, t, &all, unknown, tmin, tmax, &mut s, o);
                     });
                 }
                 if let Some(t) = sv_math::simd::Avx2::detect() {
                     check("AVX2", &mut |o| unsafe {
-                        partitions_avx2(
-                            &p,
-                            t,
-                            &all,
-                            (&rays, RaysShare::Unknown),
-                            tmin,
-                            tmax,
-                            &mut s,
-                            o,
-                        );
+                        partitions_avx2(&p, t, &all, unknown, tmin, tmax, &mut s, o);
                     });
                     check_stretches("stretches, AVX2", &mut |o| {
                         // SAFETY: as above.

@@ -287,7 +287,7 @@ impl Mesh {
     }
 
     /// Whether [`Mesh::bounds_within`] cuts the mesh by a plane: not a
-    /// mesh of more than [`MAX_CUT_TRIANGLES`].
+    /// mesh of more than `MAX_CUT_TRIANGLES` (256) triangles.
     pub fn cuts(&self) -> bool {
         self.tris.len() <= MAX_CUT_TRIANGLES
     }

@@ -49,17 +49,20 @@ pub enum RaysShare {
 }
 
 impl RaysShare {
-    /// Whether `rays` do share what this says.
+    /// Whether `rays` do share what this says, to the bit (`-0.0` is not
+    /// `0.0`: it gives the other infinity as a reciprocal).
     pub fn holds_for(self, rays: &[Ray]) -> bool {
         let Some(first) = rays.first() else {
             return true;
         };
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
         rays.iter().all(|ray| match self {
             RaysShare::Unknown => true,
-            RaysShare::Direction => ray.dir == first.dir,
+            RaysShare::Direction => bits(ray.dir) == bits(first.dir),
             RaysShare::AllBut(varying) => {
-                let fixed = (0..3).filter(|&a| a != varying);
-                ray.dir == first.dir && fixed.into_iter().all(|a| ray.origin[a] == first.origin[a])
+                let (mut origin, mut first_origin) = (bits(ray.origin), bits(first.origin));
+                (origin[varying], first_origin[varying]) = (0, 0);
+                bits(ray.dir) == bits(first.dir) && origin == first_origin
             }
         })
     }

@@ -182,3 +182,17 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
         repeated.get()
     );
 }
+
+#[test]
+fn what_rays_share_is_to_the_bit() {
+    let along_z = |x: f64, y: f64| Ray::new(DVec3::new(x, y, -1.0), DVec3::Z);
+    let row = [along_z(0.0, 2.0), along_z(0.5, 2.0), along_z(1.0, 2.0)];
+    assert!(RaysShare::AllBut(0).holds_for(&row));
+    assert!(RaysShare::Direction.holds_for(&row));
+    assert!(!RaysShare::AllBut(1).holds_for(&row));
+    // -0.0 equals 0.0 but its reciprocal is the other infinity: the
+    // lanes would copy the wrong one.
+    let signed = Ray::new(DVec3::new(0.0, 2.0, -1.0), DVec3::new(-0.0, 0.0, 1.0));
+    assert!(!RaysShare::Direction.holds_for(&[row[0], signed]));
+    assert!(RaysShare::Unknown.holds_for(&[row[0], signed]));
+}

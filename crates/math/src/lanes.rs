@@ -135,6 +135,36 @@ pub fn clamp<S: Simd>(s: S, x: S::F, lo: S::F, hi: S::F) -> S::F {
     s.select(s.gt(x, hi), hi, x)
 }
 
+/// [`crate::Aabb::ray_range`] of the box `lo`..`hi` in every lane, for
+/// the rays `o + t·d`, operation for operation: each lane's range, and the
+/// lanes that meet the box.
+#[inline(always)]
+pub fn ray_range_lanes<S: Simd>(
+    s: S,
+    (lo, hi): ([f64; 3], [f64; 3]),
+    o: [S::F; 3],
+    d: [S::F; 3],
+) -> (S::F, S::F, S::M) {
+    let (zero, one) = (s.splat(0.0), s.splat(1.0));
+    let mut t0 = s.splat(f64::NEG_INFINITY);
+    let mut t1 = s.splat(f64::INFINITY);
+    let mut miss = s.none();
+    for a in 0..3 {
+        let (low, high) = (s.splat(lo[a]), s.splat(hi[a]));
+        let level = s.eq(d[a], zero);
+        let outside = s.or(s.lt(o[a], low), s.gt(o[a], high));
+        miss = s.or(miss, s.and(level, outside));
+        let inv = s.div(one, d[a]);
+        let ta = s.mul(s.sub(low, o[a]), inv);
+        let tb = s.mul(s.sub(high, o[a]), inv);
+        let swap = s.gt(ta, tb);
+        let (ta, tb) = (s.select(swap, tb, ta), s.select(swap, ta, tb));
+        t0 = s.select(level, t0, max_num(s, t0, ta));
+        t1 = s.select(level, t1, min_num(s, t1, tb));
+    }
+    (t0, t1, s.andnot(not(s, s.gt(t0, t1)), miss))
+}
+
 /// The lanes whose rays meet `b` within `[tmin, tmax]`: the slab test of
 /// the hierarchy's box test for one ray (sv-trace's `hits`), operation for
 /// operation.

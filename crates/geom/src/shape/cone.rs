@@ -1,10 +1,12 @@
-use super::poly::roots_in;
+use super::poly::{quadratic_roots_in_lanes, roots_in};
 use super::SegLanes;
 use super::Shape;
 use super::{segments_by_classification, Seg};
 use crate::body::{independent, nonzero, positive, with_bounds, Warning};
 use crate::Body;
-use sv_math::lanes::{dot, mat_vec, normalize, not, sub_point, Lanes};
+use sv_math::lanes::{
+    along, dot, mat_vec, max_num, min_num, normalize, not, ray_range_lanes, sub_point, Lanes,
+};
 use sv_math::orthonormal_basis;
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
@@ -19,6 +21,16 @@ fn ellipse_bounds(c: DVec3, a: DVec3, b: DVec3) -> Aabb {
     let e = DVec3::new(a.x.hypot(b.x), a.y.hypot(b.y), a.z.hypot(b.z));
     Aabb::new(c - e, c + e)
 }
+
+/// [`Frame::slab`]'s answer in every lane: entry, exit, their faces, and
+/// the lanes that miss.
+type SlabLanes<S> = (
+    <S as Simd>::F,
+    <S as Simd>::F,
+    <S as Simd>::F,
+    <S as Simd>::F,
+    <S as Simd>::M,
+);
 
 /// Local frame shared by the cones: `x = v + M p` with the base semi-axes
 /// and the height vector as the columns of `M`, so the base is the unit
@@ -66,8 +78,56 @@ impl Frame {
         })
     }
 
+    /// [`Frame::slab`] in every lane: the range, its faces, and the lanes
+    /// that miss the slab.
+    #[inline(always)]
+    fn slab_lanes<S: Simd>(s: S, o: [S::F; 3], d: [S::F; 3]) -> SlabLanes<S> {
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        let (inf, ninf) = (s.splat(f64::INFINITY), s.splat(f64::NEG_INFINITY));
+        let (lat, base, top) = (
+            s.splat(f64::from(LATERAL)),
+            s.splat(f64::from(BASE)),
+            s.splat(f64::from(TOP)),
+        );
+        let flat = s.eq(d[2], zero);
+        let miss = s.and(flat, s.or(s.lt(o[2], zero), s.gt(o[2], one)));
+        if s.all(flat) {
+            // Every ray runs across the axis, as a grid's rays do across
+            // an upright cylinder: the ends are never crossed, and the
+            // divisions for them would be thrown away.
+            return (ninf, inf, lat, lat, miss);
+        }
+        let ta = s.div(s.neg(o[2]), d[2]);
+        let tb = s.div(s.sub(one, o[2]), d[2]);
+        let up = s.gt(d[2], zero);
+        (
+            s.select(flat, ninf, s.select(up, ta, tb)),
+            s.select(flat, inf, s.select(up, tb, ta)),
+            s.select(flat, lat, s.select(up, base, top)),
+            s.select(flat, lat, s.select(up, top, base)),
+            miss,
+        )
+    }
+
     fn world_normal(&self, g: DVec3) -> DVec3 {
         (self.inv_t * g).normalize()
+    }
+
+    /// [`Frame::world_normal`] in every lane of faces `face` (as `f64`):
+    /// the caps' gradients, and `lateral` on the lateral surface.
+    #[inline(always)]
+    fn normal_lanes<S: Simd>(&self, s: S, face: S::F, lateral: [S::F; 3]) -> [S::F; 3] {
+        // `-DVec3::Z` is (-0, -0, -1): its zeros' signs kept.
+        let (base, top) = (
+            s.eq(face, s.splat(f64::from(BASE))),
+            s.eq(face, s.splat(f64::from(TOP))),
+        );
+        let g = [
+            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), lateral[0])),
+            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), lateral[1])),
+            s.select(base, s.splat(-1.0), s.select(top, s.splat(1.0), lateral[2])),
+        ];
+        normalize(s, mat_vec(s, &self.inv_t, g))
     }
 
     fn bounds(&self, ra: f64, rb: f64) -> Aabb {
@@ -136,30 +196,8 @@ impl Cone {
         let d = mat_vec(s, &self.f.inv, r.d);
         let (zero, one) = (s.splat(0.0), s.splat(1.0));
         let (inf, ninf) = (s.splat(f64::INFINITY), s.splat(f64::NEG_INFINITY));
-        let (lat, base, top) = (
-            s.splat(f64::from(LATERAL)),
-            s.splat(f64::from(BASE)),
-            s.splat(f64::from(TOP)),
-        );
-        // Frame::slab.
-        let flat = s.eq(d[2], zero);
-        let mut miss = s.and(flat, s.or(s.lt(o[2], zero), s.gt(o[2], one)));
-        let (t0, t1, f0, f1) = if s.all(flat) {
-            // Every ray runs across the axis, as a grid's rays do across
-            // an upright cylinder: the ends are never crossed, and the
-            // divisions for them would be thrown away.
-            (ninf, inf, lat, lat)
-        } else {
-            let ta = s.div(s.neg(o[2]), d[2]);
-            let tb = s.div(s.sub(one, o[2]), d[2]);
-            let up = s.gt(d[2], zero);
-            (
-                s.select(flat, ninf, s.select(up, ta, tb)),
-                s.select(flat, inf, s.select(up, tb, ta)),
-                s.select(flat, lat, s.select(up, base, top)),
-                s.select(flat, lat, s.select(up, top, base)),
-            )
-        };
+        let lat = s.splat(f64::from(LATERAL));
+        let (t0, t1, f0, f1, mut miss) = Frame::slab_lanes(s, o, d);
         // Cone::lateral.
         let k = self.k;
         let a = s.sub(
@@ -332,17 +370,7 @@ impl Cone {
         let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
         let k = self.k;
         let z = s.mul(s.splat(-k), s.add(s.splat(1.0), s.mul(s.splat(k), q[2])));
-        // `-DVec3::Z` is (-0, -0, -1): its zeros' signs kept.
-        let (base, top) = (
-            s.eq(face, s.splat(f64::from(BASE))),
-            s.eq(face, s.splat(f64::from(TOP))),
-        );
-        let g = [
-            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), q[0])),
-            s.select(base, s.splat(-0.0), s.select(top, s.splat(0.0), q[1])),
-            s.select(base, s.splat(-1.0), s.select(top, s.splat(1.0), z)),
-        ];
-        normalize(s, mat_vec(s, &self.f.inv_t, g))
+        self.f.normal_lanes(s, face, [q[0], q[1], z])
     }
 
     /// True when `p` is strictly inside.
@@ -376,6 +404,32 @@ fn mul(a: &[f64], b: &[f64], out: &mut [f64]) {
             out[i + j] += x * y;
         }
     }
+}
+
+/// [`mul`] in every lane, operation for operation (the sums start from
+/// zero, as `mul`'s do, which keeps their zeros' signs).
+#[inline(always)]
+fn mul_lanes<S: Simd, const A: usize, const C: usize>(
+    s: S,
+    a: &[S::F; A],
+    b: &[S::F; A],
+) -> [S::F; C] {
+    let mut out = [s.splat(0.0); C];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            out[i + j] = s.add(out[i + j], s.mul(*x, *y));
+        }
+    }
+    out
+}
+
+/// The lanes where `a` comes before `b` in `f64::total_cmp`'s order
+/// (neither is a number that is not): below it, or `-0` against `+0`.
+#[inline(always)]
+fn sorts_before<S: Simd>(s: S, a: S::F, b: S::F) -> S::M {
+    let one = s.splat(1.0);
+    let zeros = s.and(s.eq(a, b), s.lt(s.copysign(one, a), s.copysign(one, b)));
+    s.or(s.lt(a, b), zeros)
 }
 
 impl GeneralCone {
@@ -471,7 +525,7 @@ impl GeneralCone {
     /// cross it. Neither way does it cross the surface, so the quartic has
     /// no root to give, and the segments are those of the caps alone.
     fn along_axis(&self, o: DVec3) -> Option<bool> {
-        const MARGIN: f64 = 1e-9;
+        const MARGIN: f64 = AXIS_MARGIN;
         // Where the ray is, against the cross-section at height z: convex
         // in z, so inside at both caps means inside between them.
         let against = |sa: f64, sb: f64| (o.x / sa).powi(2) + (o.y / sb).powi(2);
@@ -484,6 +538,169 @@ impl GeneralCone {
             && against(1.0, 1.0) < 1.0 - MARGIN
             && against(top_a, top_b) < 1.0 - MARGIN;
         inside.then_some(true)
+    }
+
+    /// [`GeneralCone::shoot`] in every lane whose ray runs across the
+    /// axis or along it clear of the lateral surface, operation for
+    /// operation; the other lanes are left to the scalar code. Across the
+    /// axis the cross-section does not change along the ray, so the
+    /// quartic is a quadratic, and a section is convex, so the ray gets
+    /// one segment at most (a lane that rounding gives two is left to the
+    /// scalar code too). A grid's rays through a TGC standing on an axis
+    /// are all of these two kinds; rays at a slant (a general quartic)
+    /// are not.
+    #[inline(always)]
+    pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
+        let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
+        let d = mat_vec(s, &self.f.inv, r.d);
+        let (zero, one) = (s.splat(0.0), s.splat(1.0));
+        let along_axis = s.and(s.eq(d[0], zero), s.eq(d[1], zero));
+        let across = s.andnot(s.eq(d[2], zero), along_axis);
+        let mut out = SegLanes {
+            t0: zero,
+            t1: zero,
+            f0: zero,
+            f1: zero,
+            hit: s.none(),
+            scalar: not(s, s.or(across, along_axis)),
+        };
+        if s.all(out.scalar) {
+            return out;
+        }
+        let lat = s.splat(f64::from(LATERAL));
+        // `shoot_with`: the slab between the caps, the box of the end
+        // ellipses, and the range in both.
+        let (t0, t1, f0, f1, slab_miss) = Frame::slab_lanes(s, o, d);
+        let (ma, mb) = (m2(self.ka), m2(self.kb));
+        let (b0, b1, in_box) = ray_range_lanes(s, ([-ma, -mb, -1.0], [ma, mb, 2.0]), o, d);
+        let (lo, hi) = (max_num(s, t0, b0), min_num(s, t1, b1));
+        let met = s.andnot(s.and(in_box, s.lt(lo, hi)), slab_miss);
+        let ends = [
+            s.select(s.eq(lo, t0), f0, lat),
+            s.select(s.eq(hi, t1), f1, lat),
+        ];
+        // `along_axis`: a ray beside the body misses; one inside it all
+        // the way has the caps' segment; the others need the quartic.
+        let against = |sa: f64, sb: f64| {
+            let (x, y) = (s.div(o[0], s.splat(sa)), s.div(o[1], s.splat(sb)));
+            s.add(s.mul(x, x), s.mul(y, y))
+        };
+        let along_axis = s.and(along_axis, met);
+        let beside = s.gt(against(ma, mb), s.splat(1.0 + AXIS_MARGIN));
+        let (top_a, top_b) = (1.0 + self.ka, 1.0 + self.kb);
+        let within = if top_a > 0.0 && top_b > 0.0 {
+            let margin = s.splat(1.0 - AXIS_MARGIN);
+            s.and(
+                s.lt(against(1.0, 1.0), margin),
+                s.lt(against(top_a, top_b), margin),
+            )
+        } else {
+            s.none()
+        };
+        let within = s.and(along_axis, s.andnot(within, beside));
+        out.scalar = s.or(out.scalar, s.andnot(s.andnot(along_axis, beside), within));
+        // Across the axis: the quartic's coefficients as `shoot_with`
+        // builds them, whose two highest are zero.
+        let across = s.and(across, met);
+        let (mut roots, mut found, mut quadratic) = ([zero; 2], zero, s.none());
+        if s.any(across) {
+            let os = along(s, o, d, lo);
+            let scale = |k: f64| {
+                [
+                    s.add(one, s.mul(s.splat(k), os[2])),
+                    s.mul(s.splat(k), d[2]),
+                ]
+            };
+            let (x, y, sa, sb) = ([os[0], d[0]], [os[1], d[1]], scale(self.ka), scale(self.kb));
+            let (x2, y2) = (mul_lanes::<S, 2, 3>(s, &x, &x), mul_lanes(s, &y, &y));
+            let (sa2, sb2) = (mul_lanes::<S, 2, 3>(s, &sa, &sa), mul_lanes(s, &sb, &sb));
+            let p1 = mul_lanes::<S, 3, 5>(s, &x2, &sb2);
+            let p2 = mul_lanes::<S, 3, 5>(s, &y2, &sa2);
+            let p3 = mul_lanes::<S, 3, 5>(s, &sa2, &sb2);
+            let poly: [S::F; 5] = std::array::from_fn(|i| s.sub(s.add(p1[i], p2[i]), p3[i]));
+            let degree_two = s.and(
+                s.and(s.eq(poly[4], zero), s.eq(poly[3], zero)),
+                not(s, s.eq(poly[2], zero)),
+            );
+            quadratic = s.and(across, degree_two);
+            out.scalar = s.or(out.scalar, s.andnot(across, degree_two));
+            let c = [poly[0], poly[1], poly[2]];
+            (roots, found) = quadratic_roots_in_lanes(s, c, s.sub(hi, lo), quadratic);
+            roots = roots.map(|root| s.add(root, lo));
+        }
+        // `segments_by_classification`: the crossings in the stable
+        // sort's order (`lo` first, then the roots before `hi`, then `hi`,
+        // then the roots at or past it), and the stretches between them
+        // whose midpoints are inside, joined where they follow one
+        // another.
+        let classify = s.or(within, quadratic);
+        let valid = [s.lt(zero, found), s.lt(one, found)];
+        let before = [0, 1].map(|k| s.and(valid[k], sorts_before(s, roots[k], hi)));
+        let crossings = [
+            lo,
+            s.select(before[0], roots[0], hi),
+            s.select(before[1], roots[1], s.select(before[0], hi, roots[0])),
+            s.select(before[1], hi, roots[1]),
+        ];
+        let faces = [
+            ends[0],
+            s.select(before[0], lat, ends[1]),
+            s.select(before[1], lat, s.select(before[0], ends[1], lat)),
+            s.select(before[1], ends[1], lat),
+        ];
+        let count = s.add(s.splat(2.0), found);
+        let (mut open, mut broken, mut two) = (s.none(), s.none(), s.none());
+        for w in 0..3 {
+            let valid = s.and(classify, s.lt(s.splat((w + 1) as f64), count));
+            if !s.any(valid) {
+                break;
+            }
+            let (ta, tb) = (crossings[w], crossings[w + 1]);
+            let gap = s.andnot(valid, s.le(tb, ta));
+            let mid = along(s, r.o, r.d, s.mul(s.splat(0.5), s.add(ta, tb)));
+            let inside = s.and(gap, self.inside_lanes(s, mid));
+            // A stretch inside after one outside begins a second segment.
+            two = s.or(two, s.and(inside, broken));
+            broken = s.or(broken, s.and(s.andnot(gap, inside), open));
+            let start = s.andnot(inside, open);
+            out.t0 = s.select(start, ta, out.t0);
+            out.f0 = s.select(start, faces[w], out.f0);
+            out.t1 = s.select(inside, tb, out.t1);
+            out.f1 = s.select(inside, faces[w + 1], out.f1);
+            open = s.or(open, inside);
+        }
+        out.hit = s.andnot(open, two);
+        out.scalar = s.or(out.scalar, two);
+        out
+    }
+
+    /// [`GeneralCone::contains`] of the points `p` in every lane.
+    #[inline(always)]
+    fn inside_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> S::M {
+        let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
+        let one = s.splat(1.0);
+        let sa = s.add(one, s.mul(s.splat(self.ka), q[2]));
+        let sb = s.add(one, s.mul(s.splat(self.kb), q[2]));
+        let (x, y) = (s.div(q[0], sa), s.div(q[1], sb));
+        let slab = s.and(s.gt(q[2], s.splat(0.0)), s.lt(q[2], one));
+        s.and(slab, s.lt(s.add(s.mul(x, x), s.mul(y, y)), one))
+    }
+
+    /// [`GeneralCone::normal`] in every lane (faces held as `f64`),
+    /// operation for operation.
+    #[inline(always)]
+    pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
+        let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
+        let one = s.splat(1.0);
+        let sa = s.add(one, s.mul(s.splat(self.ka), q[2]));
+        let sb = s.add(one, s.mul(s.splat(self.kb), q[2]));
+        let (sa2, sb2) = (s.mul(sa, sa), s.mul(sb, sb));
+        let bend = |q: S::F, k: f64, s2: S::F, s1: S::F| {
+            s.div(s.mul(s.mul(q, q), s.splat(k)), s.mul(s2, s1))
+        };
+        let z = s.neg(s.add(bend(q[0], self.ka, sa2, sa), bend(q[1], self.kb, sb2, sb)));
+        self.f
+            .normal_lanes(s, face, [s.div(q[0], sa2), s.div(q[1], sb2), z])
     }
 
     /// Outward unit normal at a point of the surface.
@@ -515,6 +732,11 @@ impl GeneralCone {
         self.f.bounds(1.0 + self.ka, 1.0 + self.kb)
     }
 }
+
+/// How far a ray along a general cone's axis must stay from its lateral
+/// surface, relatively, for [`GeneralCone::along_axis`] to pass the
+/// quartic over.
+const AXIS_MARGIN: f64 = 1e-9;
 
 /// Largest local half-width of a cross-section over `0 <= z <= 1`.
 fn m2(k: f64) -> f64 {

@@ -227,7 +227,8 @@ impl Shape {
 /// A body's segment along each lane's ray, in the lanes of `hit`: entry
 /// and exit, and the faces crossed there (small integers in `f64`). A lane
 /// of `scalar` is one whose answer the lanes cannot give (a faceted solid
-/// crossed more than twice): the caller leaves it to the scalar code.
+/// crossed more than twice, a general cone met at a slant): the caller
+/// leaves it to the scalar code.
 pub struct SegLanes<S: Simd> {
     /// Entry.
     pub t0: S::F,
@@ -251,6 +252,7 @@ impl Shape {
             Shape::Sphere(_)
                 | Shape::Ellipsoid(_)
                 | Shape::Cone(_)
+                | Shape::GeneralCone(_)
                 | Shape::Rpp(_)
                 | Shape::Polyhedron(_)
                 | Shape::Mesh(_)
@@ -265,6 +267,7 @@ impl Shape {
             Shape::Sphere(b) => b.normal_lanes(s, p),
             Shape::Ellipsoid(b) => b.normal_lanes(s, p),
             Shape::Cone(b) => b.normal_lanes(s, face, p),
+            Shape::GeneralCone(b) => b.normal_lanes(s, face, p),
             Shape::Rpp(b) => b.normal_lanes(s, face),
             Shape::Polyhedron(b) => b.normal_lanes(s, face),
             Shape::Mesh(b) => b.normal_lanes(s, face),
@@ -274,8 +277,9 @@ impl Shape {
 
     /// [`Shape::shoot`] for every lane, for the shapes of
     /// [`Shape::has_lanes`] only (one segment at most: the lanes whose ray
-    /// a faceted solid would give more are marked `scalar`); the callers
-    /// leave the other shapes to the scalar code.
+    /// a faceted solid would give more, or whose ray meets a general cone
+    /// at a slant, are marked `scalar`); the callers leave the other
+    /// shapes to the scalar code.
     ///
     /// Inlined where optimised, as all the lanes' code is (see
     /// [`Torus::shoot_lanes_both`] for why not otherwise).
@@ -286,6 +290,7 @@ impl Shape {
             Shape::Sphere(b) => b.shoot_lanes(s, r),
             Shape::Ellipsoid(b) => b.shoot_lanes(s, r),
             Shape::Cone(b) => b.shoot_lanes(s, r),
+            Shape::GeneralCone(b) => b.shoot_lanes(s, r),
             Shape::Rpp(b) => b.shoot_lanes(s, r),
             Shape::Polyhedron(b) => b.shoot_lanes(s, r),
             Shape::Mesh(b) => b.shoot_lanes(s, r),

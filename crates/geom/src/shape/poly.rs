@@ -225,6 +225,21 @@ pub(crate) fn quartic_roots_lanes<S: Simd>(
     (roots.out, roots.n)
 }
 
+/// [`roots_in`] over `[0, hi]` in every lane of `m`, operation for
+/// operation, for quadratics whose `c[2]` is not zero: the roots,
+/// ascending, and how many each lane has (a whole number in `f64`).
+#[inline(always)]
+pub(crate) fn quadratic_roots_in_lanes<S: Simd>(
+    s: S,
+    c: [S::F; 3],
+    hi: S::F,
+    m: S::M,
+) -> ([S::F; 2], S::F) {
+    let mut roots = Pushed::new(s);
+    quadratic_roots_lanes(s, c, hi, m, &mut roots);
+    ([roots.out[0], roots.out[1]], roots.n)
+}
+
 /// Values pushed lane by lane: the first four, how many, and the last.
 struct Pushed<S: Simd> {
     out: [S::F; 4],

@@ -2,7 +2,9 @@ use super::poly::{quartic_roots_lanes, roots_in};
 use super::{segments_by_classification, Seg, SegLanes};
 use crate::body::{nonzero, positive, Warning};
 use crate::Body;
-use sv_math::lanes::{along, clamp, dot, mat_vec, max_num, min_num, nan, not, sub_point, Lanes};
+use sv_math::lanes::{
+    along, clamp, dot, mat_vec, max_num, min_num, nan, ray_range_lanes, sub_point, Lanes,
+};
 use sv_math::simd::Simd;
 use sv_math::{Aabb, DMat3, DVec3, Ray};
 
@@ -166,7 +168,8 @@ impl Torus {
         let mut second = SegLanes { ..first };
         let o = mat_vec(s, &self.rot, sub_point(s, r.o, self.c));
         let d = mat_vec(s, &self.rot, r.d);
-        let (lo, hi, in_box) = self.local_range_lanes(s, o, d);
+        let e = self.r1 + self.r2;
+        let (lo, hi, in_box) = ray_range_lanes(s, ([-e, -e, -self.r2], [e, e, self.r2]), o, d);
         let m = s.and(m, in_box);
         let m = s.andnot(m, self.misses_clearly_lanes(s, o, d, (lo, hi)));
         if !s.any(m) {
@@ -230,32 +233,6 @@ impl Torus {
         );
         (second.t0, second.t1, second.hit) = (cur[0], cur[1], two);
         [first, second]
-    }
-
-    /// [`Torus::local_range`]'s range in every lane (the box's slabs as
-    /// `Aabb::ray_range` takes them), and the lanes that meet the box.
-    #[inline(always)]
-    fn local_range_lanes<S: Simd>(&self, s: S, o: [S::F; 3], d: [S::F; 3]) -> (S::F, S::F, S::M) {
-        let e = self.r1 + self.r2;
-        let (low, high) = ([-e, -e, -self.r2], [e, e, self.r2]);
-        let (zero, one) = (s.splat(0.0), s.splat(1.0));
-        let mut t0 = s.splat(f64::NEG_INFINITY);
-        let mut t1 = s.splat(f64::INFINITY);
-        let mut miss = s.none();
-        for a in 0..3 {
-            let (low, high) = (s.splat(low[a]), s.splat(high[a]));
-            let level = s.eq(d[a], zero);
-            let outside = s.or(s.lt(o[a], low), s.gt(o[a], high));
-            miss = s.or(miss, s.and(level, outside));
-            let inv = s.div(one, d[a]);
-            let ta = s.mul(s.sub(low, o[a]), inv);
-            let tb = s.mul(s.sub(high, o[a]), inv);
-            let swap = s.gt(ta, tb);
-            let (ta, tb) = (s.select(swap, tb, ta), s.select(swap, ta, tb));
-            t0 = s.select(level, t0, max_num(s, t0, ta));
-            t1 = s.select(level, t1, min_num(s, t1, tb));
-        }
-        (t0, t1, s.andnot(not(s, s.gt(t0, t1)), miss))
     }
 
     /// [`Torus::misses_clearly`] in every lane.

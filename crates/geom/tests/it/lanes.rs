@@ -107,13 +107,20 @@ fn lanes_of<const P: usize>(chunk: &[Ray]) -> Lanes<Portable<P>> {
     }
 }
 
-/// Checks each lane of `Mesh::shoot_lanes` for `rays` against the scalar
+/// How many lanes of [`agree`]'s rays had a segment, and how many were
+/// left to the scalar code.
+#[derive(Debug, PartialEq)]
+struct Agreed {
+    with_segment: usize,
+    left: usize,
+}
+
+/// Checks each lane of `Shape::shoot_lanes` for `rays` against the scalar
 /// segments: a lane left to the scalar code only where it must or may be,
-/// a lane's segment equal bit for bit to the scalar one; the number of
-/// lanes with a segment.
-fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
+/// a lane's segment equal bit for bit to the scalar one.
+fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> Agreed {
     let s = Portable::<P>;
-    let mut with_segment = 0;
+    let (mut with_segment, mut left) = (0, 0);
     for chunk in rays.chunks(P) {
         let got = shape.shoot_lanes(s, &lanes_of(chunk));
         let (hit, scalar) = (s.bits(got.hit), s.bits(got.scalar));
@@ -127,6 +134,7 @@ fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
                 "{why}: a lane both hit and left"
             );
             if scalar & (1 << j) != 0 {
+                left += 1;
                 continue;
             }
             assert!(
@@ -144,19 +152,21 @@ fn agree<const P: usize>(shape: &Shape, rays: &[Ray]) -> usize {
             }
         }
     }
-    with_segment
+    Agreed { with_segment, left }
 }
 
 /// [`agree`] in packets of four and of eight rays, the same rays meeting
-/// the shape in both, and more than a tenth of them.
-fn agree_in_four_and_eight_lanes(shape: &Shape, rays: &[Ray]) {
+/// the shape in both, and more than a tenth of them; what four lanes
+/// agreed on.
+fn agree_in_four_and_eight_lanes(shape: &Shape, rays: &[Ray]) -> Agreed {
     let (four, eight) = (agree::<4>(shape, rays), agree::<8>(shape, rays));
-    assert_eq!(four, eight);
+    assert_eq!(four.with_segment, eight.with_segment);
     assert!(
-        four > rays.len() / 10,
-        "{four} of {} rays met it",
+        four.with_segment > rays.len() / 10,
+        "{four:?} of {} rays met it",
         rays.len()
     );
+    four
 }
 
 #[test]
@@ -234,10 +244,10 @@ fn tori() -> Vec<Shape> {
     ]
 }
 
-/// Rays at a torus of bounds `bounds`: random ones, and rays along each
+/// Rays at a body of bounds `bounds`: random ones, and rays along each
 /// axis on a grid over the bounds that takes in the planes of its
 /// extremes, as a check's grid and its refinement would fire them.
-fn torus_rays(bounds: sv_math::Aabb, rng: &mut Pcg64) -> Vec<Ray> {
+fn grid_rays(bounds: sv_math::Aabb, rng: &mut Pcg64) -> Vec<Ray> {
     let mut out: Vec<Ray> = (0..3000).map(|_| random_ray(rng, bounds)).collect();
     let (lo, size) = (bounds.min, bounds.size());
     for axis in 0..3 {
@@ -308,7 +318,7 @@ fn torus_agrees<const P: usize>(shape: &Shape, rays: &[Ray]) -> (usize, usize) {
 fn tori_in_lanes_agree_with_the_scalar_code() {
     let mut rng = Pcg64::seed_from_u64(1973);
     for shape in tori() {
-        let rays = torus_rays(shape.bounds(), &mut rng);
+        let rays = grid_rays(shape.bounds(), &mut rng);
         let (four, eight) = (
             torus_agrees::<4>(&shape, &rays),
             torus_agrees::<8>(&shape, &rays),
@@ -320,5 +330,84 @@ fn tori_in_lanes_agree_with_the_scalar_code() {
             "{four:?} of {}",
             rays.len()
         );
+    }
+}
+
+/// General cones (TGCs whose top is not like their base): standing on
+/// each axis, one with its top pinched to a line, and one leaning.
+fn general_cones() -> Vec<(Shape, bool)> {
+    let tgc = |v: [f64; 3], h: [f64; 3], a: [f64; 3], b: [f64; 3], c: f64, d: f64| {
+        let params = [v.as_slice(), &h, &a, &b, &[c, d]].concat();
+        let shape = prepare_one(&Body::new("tgc", BodyKind::Tgc, params)).0;
+        assert!(matches!(shape, Shape::GeneralCone(_)), "{shape:?}");
+        shape
+    };
+    vec![
+        (
+            tgc(
+                [0.0; 3],
+                [0.0, 0.0, 10.0],
+                [5.0, 0.0, 0.0],
+                [0.0, 8.0, 0.0],
+                2.0,
+                9.0,
+            ),
+            true,
+        ),
+        (
+            tgc(
+                [21.5, 0.0, 37.0],
+                [4.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 3.0],
+                2.5,
+                0.0,
+            ),
+            true,
+        ),
+        (
+            tgc(
+                [1.0, -2.0, 0.5],
+                [0.0, -6.0, 0.0],
+                [0.0, 0.0, 2.0],
+                [3.0, 0.0, 0.0],
+                0.5,
+                4.0,
+            ),
+            true,
+        ),
+        (
+            tgc(
+                [0.0; 3],
+                [3.0, 2.0, 9.0],
+                [2.0, 0.0, 0.0],
+                [0.0, 3.0, 0.0],
+                1.0,
+                0.5,
+            ),
+            false,
+        ),
+    ]
+}
+
+#[test]
+fn general_cones_in_lanes_agree_with_the_scalar_code() {
+    let mut rng = Pcg64::seed_from_u64(1974);
+    for (shape, upright) in general_cones() {
+        let rays = grid_rays(shape.bounds(), &mut rng);
+        let agreed = agree_in_four_and_eight_lanes(&shape, &rays);
+        // The random rays meet it at a slant, and go to the scalar code;
+        // of a grid's rays through one standing on an axis, only those
+        // along the axis between its ends' outlines do.
+        let grid = rays.len() - 3000;
+        if upright {
+            assert!(
+                agreed.left < 3000 + grid / 4,
+                "{agreed:?} of {}",
+                rays.len()
+            );
+        } else {
+            assert!(agreed.left >= 3000, "{agreed:?} of {}", rays.len());
+        }
     }
 }

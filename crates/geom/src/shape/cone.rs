@@ -617,7 +617,10 @@ impl GeneralCone {
             let p1 = mul_lanes::<S, 3, 5>(s, &x2, &sb2);
             let p2 = mul_lanes::<S, 3, 5>(s, &y2, &sa2);
             let p3 = mul_lanes::<S, 3, 5>(s, &sa2, &sb2);
-            let poly: [S::F; 5] = std::array::from_fn(|i| s.sub(s.add(p1[i], p2[i]), p3[i]));
+            let mut poly = p1;
+            for (i, c) in poly.iter_mut().enumerate() {
+                *c = s.sub(s.add(p1[i], p2[i]), p3[i]);
+            }
             let degree_two = s.and(
                 s.and(s.eq(poly[4], zero), s.eq(poly[3], zero)),
                 not(s, s.eq(poly[2], zero)),
@@ -626,7 +629,7 @@ impl GeneralCone {
             out.scalar = s.or(out.scalar, s.andnot(across, degree_two));
             let c = [poly[0], poly[1], poly[2]];
             (roots, found) = quadratic_roots_in_lanes(s, c, s.sub(hi, lo), quadratic);
-            roots = roots.map(|root| s.add(root, lo));
+            roots = [s.add(roots[0], lo), s.add(roots[1], lo)];
         }
         // `segments_by_classification`: the crossings in the stable
         // sort's order (`lo` first, then the roots before `hi`, then `hi`,
@@ -634,8 +637,10 @@ impl GeneralCone {
         // whose midpoints are inside, joined where they follow one
         // another.
         let classify = s.or(within, quadratic);
-        let valid = [s.lt(zero, found), s.lt(one, found)];
-        let before = [0, 1].map(|k| s.and(valid[k], sorts_before(s, roots[k], hi)));
+        let before = [
+            s.and(s.lt(zero, found), sorts_before(s, roots[0], hi)),
+            s.and(s.lt(one, found), sorts_before(s, roots[1], hi)),
+        ];
         let crossings = [
             lo,
             s.select(before[0], roots[0], hi),

@@ -525,18 +525,17 @@ impl GeneralCone {
     /// cross it. Neither way does it cross the surface, so the quartic has
     /// no root to give, and the segments are those of the caps alone.
     fn along_axis(&self, o: DVec3) -> Option<bool> {
-        const MARGIN: f64 = AXIS_MARGIN;
         // Where the ray is, against the cross-section at height z: convex
         // in z, so inside at both caps means inside between them.
         let against = |sa: f64, sb: f64| (o.x / sa).powi(2) + (o.y / sb).powi(2);
-        if against(m2(self.ka), m2(self.kb)) > 1.0 + MARGIN {
+        if against(m2(self.ka), m2(self.kb)) > 1.0 + AXIS_MARGIN {
             return Some(false);
         }
         let (top_a, top_b) = (1.0 + self.ka, 1.0 + self.kb);
         let inside = top_a > 0.0
             && top_b > 0.0
-            && against(1.0, 1.0) < 1.0 - MARGIN
-            && against(top_a, top_b) < 1.0 - MARGIN;
+            && against(1.0, 1.0) < 1.0 - AXIS_MARGIN
+            && against(top_a, top_b) < 1.0 - AXIS_MARGIN;
         inside.then_some(true)
     }
 

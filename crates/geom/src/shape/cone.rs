@@ -1,4 +1,4 @@
-use super::poly::{quadratic_roots_in_lanes, roots_in};
+use super::poly::{quadratic_roots_in_lanes, quartic_roots_lanes, roots_in};
 use super::SegLanes;
 use super::Shape;
 use super::{segments_by_classification, Seg};
@@ -540,14 +540,15 @@ impl GeneralCone {
     }
 
     /// [`GeneralCone::shoot`] in every lane whose ray runs across the
-    /// axis or along it clear of the lateral surface, operation for
-    /// operation; the other lanes are left to the scalar code. Across the
-    /// axis the cross-section does not change along the ray, so the
-    /// quartic is a quadratic, and a section is convex, so the ray gets
-    /// one segment at most (a lane that rounding gives two is left to the
-    /// scalar code too). A grid's rays through a TGC standing on an axis
-    /// are all of these two kinds; rays at a slant (a general quartic)
-    /// are not.
+    /// axis or along it, operation for operation; the lanes of rays at a
+    /// slant are left to the scalar code. Across the axis the
+    /// cross-section does not change along the ray, so the quartic is a
+    /// quadratic; along it the quartic is solved as the torus's is (for
+    /// rays near the lateral surface only). A section across the axis is
+    /// convex, and so is the stretch along it that lies inside, so a ray
+    /// gets one segment at most (a lane that rounding gives two is left to
+    /// the scalar code too). A grid's rays through a TGC standing on an
+    /// axis are all of these kinds.
     #[inline(always)]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
@@ -597,12 +598,14 @@ impl GeneralCone {
             s.none()
         };
         let within = s.and(along_axis, s.andnot(within, beside));
-        out.scalar = s.or(out.scalar, s.andnot(s.andnot(along_axis, beside), within));
-        // Across the axis: the quartic's coefficients as `shoot_with`
-        // builds them, whose two highest are zero.
-        let across = s.and(across, met);
-        let (mut roots, mut found, mut quadratic) = ([zero; 2], zero, s.none());
-        if s.any(across) {
+        let near_side = s.andnot(s.andnot(along_axis, beside), within);
+        // Across the axis, or along it near the lateral surface: the
+        // quartic's coefficients as `shoot_with` builds them. Across the
+        // axis the two highest are zero: a quadratic.
+        let solve = s.or(s.and(across, met), near_side);
+        let (mut roots, mut found) = ([zero; 4], zero);
+        let mut solved = s.none();
+        if s.any(solve) {
             let os = along(s, o, d, lo);
             let scale = |k: f64| {
                 [
@@ -620,41 +623,68 @@ impl GeneralCone {
             for (i, c) in poly.iter_mut().enumerate() {
                 *c = s.sub(s.add(p1[i], p2[i]), p3[i]);
             }
-            let degree_two = s.and(
+            // `roots_in`'s degree: below three across the axis, four
+            // along it but for a ratio of one.
+            let (low, zero2, zero1) = (
                 s.and(s.eq(poly[4], zero), s.eq(poly[3], zero)),
-                not(s, s.eq(poly[2], zero)),
+                s.eq(poly[2], zero),
+                s.eq(poly[1], zero),
             );
-            quadratic = s.and(across, degree_two);
-            out.scalar = s.or(out.scalar, s.andnot(across, degree_two));
+            let quadratic = s.and(solve, s.andnot(low, zero2));
+            let linear = s.and(s.and(solve, low), s.andnot(zero2, zero1));
+            let constant = s.and(s.and(solve, low), s.and(zero2, zero1));
+            let quartic = s.andnot(solve, s.eq(poly[4], zero));
+            // A cubic (a ratio of one along the axis) is left to the
+            // scalar code.
+            solved = s.or(s.or(quadratic, linear), s.or(constant, quartic));
+            out.scalar = s.or(out.scalar, s.andnot(solve, solved));
             let c = [poly[0], poly[1], poly[2]];
-            (roots, found) = quadratic_roots_in_lanes(s, c, s.sub(hi, lo), quadratic);
-            roots = [s.add(roots[0], lo), s.add(roots[1], lo)];
+            let (two_roots, two_found) = quadratic_roots_in_lanes(s, c, s.sub(hi, lo), quadratic);
+            (roots[0], roots[1], found) = (two_roots[0], two_roots[1], two_found);
+            let root = s.div(s.neg(poly[0]), poly[1]);
+            let fits = s.and(s.ge(root, zero), s.le(root, s.sub(hi, lo)));
+            roots[0] = s.select(linear, root, roots[0]);
+            found = s.select(s.and(linear, fits), one, found);
+            if s.any(quartic) {
+                let (four_roots, four_found) = quartic_roots_lanes(s, poly, s.sub(hi, lo), quartic);
+                for (root, four) in roots.iter_mut().zip(four_roots) {
+                    *root = s.select(quartic, four, *root);
+                }
+                found = s.select(quartic, four_found, found);
+            }
+            for root in &mut roots {
+                *root = s.add(*root, lo);
+            }
         }
         // `segments_by_classification`: the crossings in the stable
         // sort's order (`lo` first, then the roots before `hi`, then `hi`,
         // then the roots at or past it), and the stretches between them
         // whose midpoints are inside, joined where they follow one
         // another.
-        let classify = s.or(within, quadratic);
-        let before = [
-            s.and(s.lt(zero, found), sorts_before(s, roots[0], hi)),
-            s.and(s.lt(one, found), sorts_before(s, roots[1], hi)),
-        ];
-        let crossings = [
-            lo,
-            s.select(before[0], roots[0], hi),
-            s.select(before[1], roots[1], s.select(before[0], hi, roots[0])),
-            s.select(before[1], hi, roots[1]),
-        ];
-        let faces = [
-            ends[0],
-            s.select(before[0], lat, ends[1]),
-            s.select(before[1], lat, s.select(before[0], ends[1], lat)),
-            s.select(before[1], ends[1], lat),
-        ];
+        let classify = s.or(within, solved);
+        let mut before = [s.none(); 4];
+        for (k, before) in before.iter_mut().enumerate() {
+            let valid = s.lt(s.splat(k as f64), found);
+            *before = s.and(valid, sorts_before(s, roots[k], hi));
+        }
+        let (mut crossings, mut faces) = ([lo; 6], [ends[0]; 6]);
+        for i in 1..6 {
+            // The `i`th crossing: root `i - 1` if it comes before `hi`,
+            // else `hi` if root `i - 2` does (or there is none), else root
+            // `i - 2`.
+            let root_before = if i <= 4 { before[i - 1] } else { s.none() };
+            let hi_here = if i == 1 {
+                s.mask(u32::MAX)
+            } else {
+                before[i - 2]
+            };
+            let (earlier, later) = (roots[(i - 1).min(3)], roots[i.saturating_sub(2).min(3)]);
+            crossings[i] = s.select(root_before, earlier, s.select(hi_here, hi, later));
+            faces[i] = s.select(root_before, lat, s.select(hi_here, ends[1], lat));
+        }
         let count = s.add(s.splat(2.0), found);
         let (mut open, mut broken, mut two) = (s.none(), s.none(), s.none());
-        for w in 0..3 {
+        for w in 0..5 {
             let valid = s.and(classify, s.lt(s.splat((w + 1) as f64), count));
             if !s.any(valid) {
                 break;

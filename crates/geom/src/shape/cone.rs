@@ -549,7 +549,13 @@ impl GeneralCone {
     /// gets one segment at most (a lane that rounding gives two is left to
     /// the scalar code too). A grid's rays through a TGC standing on an
     /// axis are all of these kinds.
-    #[inline(always)]
+    ///
+    /// Its own frame where unoptimised, as the torus's is (see
+    /// [`super::Torus::shoot_lanes_both`]): the quartic's many values
+    /// would otherwise sit in [`Shape::shoot_lanes`]' frame beside every
+    /// other shape's.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    #[cfg_attr(debug_assertions, inline(never))]
     pub fn shoot_lanes<S: Simd>(&self, s: S, r: &Lanes<S>) -> SegLanes<S> {
         let o = mat_vec(s, &self.f.inv, sub_point(s, r.o, self.f.v));
         let d = mat_vec(s, &self.f.inv, r.d);

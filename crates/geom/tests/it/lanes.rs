@@ -337,58 +337,21 @@ fn tori_in_lanes_agree_with_the_scalar_code() {
 /// General cones (TGCs whose top is not like their base): standing on
 /// each axis, one with its top pinched to a line, and one leaning.
 fn general_cones() -> Vec<(Shape, bool)> {
-    let tgc = |v: [f64; 3], h: [f64; 3], a: [f64; 3], b: [f64; 3], c: f64, d: f64| {
-        let params = [v.as_slice(), &h, &a, &b, &[c, d]].concat();
-        let shape = prepare_one(&Body::new("tgc", BodyKind::Tgc, params)).0;
-        assert!(matches!(shape, Shape::GeneralCone(_)), "{shape:?}");
-        shape
-    };
-    vec![
-        (
-            tgc(
-                [0.0; 3],
-                [0.0, 0.0, 10.0],
-                [5.0, 0.0, 0.0],
-                [0.0, 8.0, 0.0],
-                2.0,
-                9.0,
-            ),
-            true,
-        ),
-        (
-            tgc(
-                [21.5, 0.0, 37.0],
-                [4.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 3.0],
-                2.5,
-                0.0,
-            ),
-            true,
-        ),
-        (
-            tgc(
-                [1.0, -2.0, 0.5],
-                [0.0, -6.0, 0.0],
-                [0.0, 0.0, 2.0],
-                [3.0, 0.0, 0.0],
-                0.5,
-                4.0,
-            ),
-            true,
-        ),
-        (
-            tgc(
-                [0.0; 3],
-                [3.0, 2.0, 9.0],
-                [2.0, 0.0, 0.0],
-                [0.0, 3.0, 0.0],
-                1.0,
-                0.5,
-            ),
-            false,
-        ),
-    ]
+    // V, H, A, B, and the top's semi-axes C and D; the first three stand
+    // on an axis.
+    let cones: [[f64; 14]; 4] = [
+        [0., 0., 0., 0., 0., 10., 5., 0., 0., 0., 8., 0., 2.0, 9.0],
+        [21.5, 0., 37., 4., 0., 0., 0., 1., 0., 0., 0., 3., 2.5, 0.0],
+        [1., -2., 0.5, 0., -6., 0., 0., 0., 2., 3., 0., 0., 0.5, 4.0],
+        [0., 0., 0., 3., 2., 9., 2., 0., 0., 0., 3., 0., 1.0, 0.5],
+    ];
+    (cones.iter().enumerate())
+        .map(|(k, params)| {
+            let shape = prepare_one(&Body::new("tgc", BodyKind::Tgc, params.to_vec())).0;
+            assert!(matches!(shape, Shape::GeneralCone(_)), "{shape:?}");
+            (shape, k < 3)
+        })
+        .collect()
 }
 
 #[test]

@@ -612,6 +612,8 @@ impl GeneralCone {
         let (mut roots, mut found) = ([zero; 4], zero);
         let mut solved = s.none();
         if s.any(solve) {
+            // The roots are sought from `lo`, where the origin is moved.
+            let reach = s.sub(hi, lo);
             let os = along(s, o, d, lo);
             let scale = |k: f64| {
                 [
@@ -645,14 +647,14 @@ impl GeneralCone {
             solved = s.or(s.or(quadratic, linear), s.or(constant, quartic));
             out.scalar = s.or(out.scalar, s.andnot(solve, solved));
             let c = [poly[0], poly[1], poly[2]];
-            let (two_roots, two_found) = quadratic_roots_in_lanes(s, c, s.sub(hi, lo), quadratic);
+            let (two_roots, two_found) = quadratic_roots_in_lanes(s, c, reach, quadratic);
             (roots[0], roots[1], found) = (two_roots[0], two_roots[1], two_found);
             let root = s.div(s.neg(poly[0]), poly[1]);
-            let fits = s.and(s.ge(root, zero), s.le(root, s.sub(hi, lo)));
+            let fits = s.and(s.ge(root, zero), s.le(root, reach));
             roots[0] = s.select(linear, root, roots[0]);
             found = s.select(s.and(linear, fits), one, found);
             if s.any(quartic) {
-                let (four_roots, four_found) = quartic_roots_lanes(s, poly, s.sub(hi, lo), quartic);
+                let (four_roots, four_found) = quartic_roots_lanes(s, poly, reach, quartic);
                 for (root, four) in roots.iter_mut().zip(four_roots) {
                     *root = s.select(quartic, four, *root);
                 }

@@ -314,7 +314,7 @@ impl Mesh {
                 let crossing = if side_p == 0.0 {
                     p
                 } else if (side_p < 0.0) != (side_q < 0.0) && side_q != 0.0 {
-                    p + (q - p) * (side_p / (side_p - side_q))
+                    super::edge_crossing(p, q, side_p, side_q)
                 } else {
                     continue;
                 };

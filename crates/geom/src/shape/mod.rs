@@ -47,6 +47,13 @@ fn ends(p: (DVec3, DVec3, DVec3), q: (DVec3, DVec3, DVec3)) -> Vec<DVec3> {
         .collect()
 }
 
+/// Where the segment from `a` to `b` crosses the plane whose signed
+/// distances at `a` and `b` are `fa` and `fb` (of opposite signs): the
+/// cut of an edge, for the bodies' parts within a box.
+fn edge_crossing(a: DVec3, b: DVec3, fa: f64, fb: f64) -> DVec3 {
+    a + (b - a) * (fa / (fa - fb))
+}
+
 /// A stretch of the ray inside a body, with the faces crossed at its ends.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seg {

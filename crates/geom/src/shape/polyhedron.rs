@@ -198,7 +198,7 @@ impl Polyhedron {
                     let b = corner(k | bit);
                     let (fa, fb) = (side(a), side(b));
                     if (fa < 0.0) != (fb < 0.0) {
-                        part = part.including(a + (b - a) * (fa / (fa - fb)));
+                        part = part.including(super::edge_crossing(a, b, fa, fb));
                     }
                 }
             }

@@ -29,20 +29,24 @@ struct Tri {
 #[derive(Clone, Debug)]
 pub struct Mesh {
     tris: Vec<Tri>,
-    /// Per axis, per triangle, what Möller–Trumbore first works out from
-    /// a ray's direction alone, for rays along that axis (a check's grid
-    /// rays, a view along an axis): `d × e2`, then `e1 · (d × e2)` and
-    /// one over it. The lanes read them for a packet along an axis instead
-    /// of dividing for every triangle.
+    /// Per axis, for each triangle a ray along it can cross, what
+    /// Möller–Trumbore first works out from a ray's direction alone, for
+    /// rays along that axis (a check's grid rays, a view along an axis):
+    /// `d × e2`, then `e1 · (d × e2)` and one over it. The lanes read them
+    /// for a packet along an axis instead of dividing for every triangle,
+    /// and pass over the triangles edge-on to the axis (the walls of a
+    /// faceted box), which such a ray never crosses.
     along_axis: [Vec<AxisTerms>; 3],
     bounds: Aabb,
     eps: f64,
 }
 
-/// A mesh's `along_axis` terms of one triangle: `p = d × e2`, `det` and
-/// `inv`, as [`Mesh::shoot`] computes them for `d` the axis.
+/// A mesh's `along_axis` terms of one triangle: its index, and `p = d ×
+/// e2`, `det` and `inv`, as [`Mesh::shoot`] computes them for `d` the
+/// axis.
 #[derive(Clone, Copy, Debug)]
 struct AxisTerms {
+    tri: usize,
     p: DVec3,
     det: f64,
     inv: f64,
@@ -80,17 +84,18 @@ impl Mesh {
             })
             .collect::<Vec<Tri>>();
         let along_axis = DVec3::AXES.map(|dir| {
-            tris.iter()
-                .map(|tri| {
-                    let p = dir.cross(tri.e2);
-                    let det = tri.e1.dot(p);
-                    AxisTerms {
-                        p,
-                        det,
-                        inv: 1.0 / det,
-                    }
-                })
-                .collect()
+            let terms = tris.iter().enumerate().map(|(i, tri)| {
+                let p = dir.cross(tri.e2);
+                let det = tri.e1.dot(p);
+                AxisTerms {
+                    tri: i,
+                    p,
+                    det,
+                    inv: 1.0 / det,
+                }
+            });
+            // Those `shoot` passes over as flat to the ray.
+            terms.filter(|terms| !is_flat(terms.det)).collect()
         });
         Mesh {
             tris,
@@ -117,7 +122,7 @@ impl Mesh {
             // Möller–Trumbore 1997.
             let p = ray.dir.cross(tri.e2);
             let det = tri.e1.dot(p);
-            if det.abs() < 1e-300 {
+            if is_flat(det) {
                 continue;
             }
             let inv = 1.0 / det;
@@ -186,8 +191,9 @@ impl Mesh {
             [const { MaybeUninit::<(usize, S::F, S::M)>::uninit() }; KEPT_CROSSINGS];
         let mut kept = 0;
         let along = self.terms_along(s, r);
-        for (i, tri) in self.tris.iter().enumerate() {
-            let Some((t, hit)) = crossing_lanes(s, tri, r, along.map(|terms| &terms[i])) else {
+        for k in 0..self.tried(along) {
+            let (i, terms) = self.triangle(along, k);
+            let Some((t, hit)) = crossing_lanes(s, &self.tris[i], r, terms) else {
                 continue;
             };
             if kept < KEPT_CROSSINGS {
@@ -214,8 +220,9 @@ impl Mesh {
                 nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
             }
         } else if s.any(beyond_first) {
-            for (i, tri) in self.tris.iter().enumerate() {
-                if let Some((t, hit)) = crossing_lanes(s, tri, r, along.map(|terms| &terms[i])) {
+            for k in 0..self.tried(along) {
+                let (i, terms) = self.triangle(along, k);
+                if let Some((t, hit)) = crossing_lanes(s, &self.tris[i], r, terms) {
                     nearer_beyond(s, past_first, (i, t, hit), &mut t1, &mut f1);
                 }
             }
@@ -229,6 +236,29 @@ impl Mesh {
             f1,
             hit: s.andnot(two, scalar),
             scalar,
+        }
+    }
+
+    /// How many triangles the lanes try: every triangle, or along an axis
+    /// (`along`, from [`Mesh::terms_along`]) those not flat to it.
+    #[inline(always)]
+    fn tried(&self, along: Option<&[AxisTerms]>) -> usize {
+        along.map_or(self.tris.len(), <[AxisTerms]>::len)
+    }
+
+    /// The `k`-th triangle the lanes try (in the order of the triangles):
+    /// its index and its terms along the axis of `along`. Not a closure
+    /// handed each: a closure's body would stay a call outside the
+    /// instruction set the lanes are compiled for.
+    #[inline(always)]
+    fn triangle<'a>(
+        &self,
+        along: Option<&'a [AxisTerms]>,
+        k: usize,
+    ) -> (usize, Option<&'a AxisTerms>) {
+        match along {
+            Some(not_flat) => (not_flat[k].tri, Some(&not_flat[k])),
+            None => (k, None),
         }
     }
 
@@ -326,6 +356,13 @@ impl Mesh {
         }
         cut.intersection(&near)
     }
+}
+
+/// Whether a triangle whose Möller–Trumbore determinant for a ray is `det`
+/// lies flat to the ray: the ray is not taken to cross it.
+#[inline(always)]
+fn is_flat(det: f64) -> bool {
+    det.abs() < 1e-300
 }
 
 /// [`Mesh::shoot_lanes`]' second pass for crossing `(i, t, hit)` of

@@ -498,7 +498,9 @@ fn fire_grid_rays(
             } = worker;
             let rays = &mut rays[..(packet.end - packet.start) as usize];
             for (ray, index) in rays.iter_mut().zip(packet.clone()) {
-                ray.origin[run.axes.0] = grid.along_row(&run, index);
+                // As an array: DVec3's index is a match on the axis.
+                let origin: &mut [f64; 3] = ray.origin.as_mut();
+                origin[run.axes.0] = grid.along_row(&run, index);
             }
             let row = (&rays[..], RaysShare::AllBut(run.axes.0));
             let repeats = ray_check.partitions_of_rays(zones, row, 0.0, t1, parts);

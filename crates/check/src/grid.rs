@@ -171,8 +171,8 @@ impl Grid {
         let (u, v) = ((k + 1) % 3, (k + 2) % 3);
         let mut o = DVec3::ZERO;
         o[k] = self.lo[k] - self.pad;
-        o[u] = self.lo[u] + (i as f64 + FRAC_U) * self.cell[k].0;
-        o[v] = self.lo[v] + (j as f64 + FRAC_V) * self.cell[k].1;
+        o[u] = self.lo[u] + (exactly(i) + FRAC_U) * self.cell[k].0;
+        o[v] = self.lo[v] + (exactly(j) + FRAC_V) * self.cell[k].1;
         let mut dir = DVec3::ZERO;
         dir[k] = 1.0;
         (
@@ -187,8 +187,16 @@ impl Grid {
     /// other coordinates are those of the run's first ray).
     pub(crate) fn along_row(&self, run: &RowRun, index: u64) -> f64 {
         let (k, u) = (run.axis, run.axes.0);
-        self.lo[u] + ((index - run.row_start) as f64 + FRAC_U) * self.cell[k].0
+        self.lo[u] + (exactly(index - run.row_start) + FRAC_U) * self.cell[k].0
     }
+}
+
+/// A ray's place in its row or column (far below 2⁵³) as `f64`, exactly:
+/// through `i64`, whose conversion is one instruction where `u64`'s takes
+/// a test and several (every grid ray's origin is worked out from it).
+fn exactly(place: u64) -> f64 {
+    debug_assert!(place < 1 << 53);
+    place as i64 as f64
 }
 
 /// A random ray through a random point of the box, and its range inside

@@ -358,11 +358,14 @@ impl Mesh {
     }
 }
 
-/// Whether a triangle whose Möller–Trumbore determinant for a ray is `det`
+/// Below this, a triangle's Möller–Trumbore determinant for a ray says it
 /// lies flat to the ray: the ray is not taken to cross it.
+const FLAT_DETERMINANT: f64 = 1e-300;
+
+/// Whether a triangle whose determinant for a ray is `det` lies flat to it.
 #[inline(always)]
 fn is_flat(det: f64) -> bool {
-    det.abs() < 1e-300
+    det.abs() < FLAT_DETERMINANT
 }
 
 /// [`Mesh::shoot_lanes`]' second pass for crossing `(i, t, hit)` of
@@ -410,7 +413,7 @@ fn crossing_lanes<S: Simd>(
     };
     let from_corner = sub_point(s, r.o, tri.v0);
     let u = s.mul(dot(s, from_corner, p), inv);
-    let flat = s.lt(s.abs(det), s.splat(1e-300));
+    let flat = s.lt(s.abs(det), s.splat(FLAT_DETERMINANT));
     let outside_u = not(s, s.and(s.ge(u, zero), s.le(u, one)));
     let in_u = not(s, s.or(flat, outside_u));
     if !s.any(in_u) {

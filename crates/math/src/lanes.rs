@@ -135,22 +135,17 @@ pub fn clamp<S: Simd>(s: S, x: S::F, lo: S::F, hi: S::F) -> S::F {
     s.select(s.gt(x, hi), hi, x)
 }
 
-/// [`crate::Aabb::ray_range`] of the box `lo`..`hi` in every lane, for
-/// the rays `o + t·d`, operation for operation: each lane's range, and the
-/// lanes that meet the box.
+/// [`Aabb::ray_range`] of `b` in every lane, for the rays `o + t·d`,
+/// operation for operation: each lane's range, and the lanes that meet
+/// the box.
 #[inline(always)]
-pub fn ray_range_lanes<S: Simd>(
-    s: S,
-    (lo, hi): ([f64; 3], [f64; 3]),
-    o: [S::F; 3],
-    d: [S::F; 3],
-) -> (S::F, S::F, S::M) {
+pub fn ray_range_lanes<S: Simd>(s: S, b: &Aabb, o: [S::F; 3], d: [S::F; 3]) -> (S::F, S::F, S::M) {
     let (zero, one) = (s.splat(0.0), s.splat(1.0));
     let mut t0 = s.splat(f64::NEG_INFINITY);
     let mut t1 = s.splat(f64::INFINITY);
     let mut miss = s.none();
     for a in 0..3 {
-        let (low, high) = (s.splat(lo[a]), s.splat(hi[a]));
+        let (low, high) = (s.splat(b.min[a]), s.splat(b.max[a]));
         let level = s.eq(d[a], zero);
         let outside = s.or(s.lt(o[a], low), s.gt(o[a], high));
         miss = s.or(miss, s.and(level, outside));

@@ -455,6 +455,15 @@ impl GeneralCone {
         self.shoot_with(ray, true, out);
     }
 
+    /// The box of the two end ellipses in the local frame, which bounds
+    /// the search for the lateral surface. z is left loose: the slab
+    /// between the caps already bounds it, and a box face coinciding with
+    /// a cap would steal its face label by rounding.
+    fn local_box(&self) -> Aabb {
+        let (ma, mb) = (m2(self.ka), m2(self.kb));
+        Aabb::new(DVec3::new(-ma, -mb, -1.0), DVec3::new(ma, mb, 2.0))
+    }
+
     /// [`GeneralCone::shoot`], passing the quartic over for rays along
     /// the axis that cannot cross the lateral surface when `quick`.
     fn shoot_with(&self, ray: &Ray, quick: bool, out: &mut Vec<Seg>) {
@@ -462,13 +471,7 @@ impl GeneralCone {
         let Some((t0, t1, f0, f1)) = Frame::slab(o, d) else {
             return;
         };
-        // Bound the search by the box of the two end ellipses in local space.
-        // z is left loose: the slab above already bounds it, and a box face
-        // coinciding with a cap would steal its face label by rounding.
-        let lb = Aabb::new(
-            DVec3::new(-m2(self.ka), -m2(self.kb), -1.0),
-            DVec3::new(m2(self.ka), m2(self.kb), 2.0),
-        );
+        let lb = self.local_box();
         let lray = Ray {
             origin: o,
             dir: d,
@@ -577,8 +580,7 @@ impl GeneralCone {
         // `shoot_with`: the slab between the caps, the box of the end
         // ellipses, and the range in both.
         let (t0, t1, f0, f1, slab_miss) = Frame::slab_lanes(s, o, d);
-        let (ma, mb) = (m2(self.ka), m2(self.kb));
-        let (b0, b1, in_box) = ray_range_lanes(s, ([-ma, -mb, -1.0], [ma, mb, 2.0]), o, d);
+        let (b0, b1, in_box) = ray_range_lanes(s, &self.local_box(), o, d);
         let (lo, hi) = (max_num(s, t0, b0), min_num(s, t1, b1));
         let met = s.andnot(s.and(in_box, s.lt(lo, hi)), slab_miss);
         let ends = [
@@ -592,7 +594,10 @@ impl GeneralCone {
             s.add(s.mul(x, x), s.mul(y, y))
         };
         let along_axis = s.and(along_axis, met);
-        let beside = s.gt(against(ma, mb), s.splat(1.0 + AXIS_MARGIN));
+        let beside = s.gt(
+            against(m2(self.ka), m2(self.kb)),
+            s.splat(1.0 + AXIS_MARGIN),
+        );
         let (top_a, top_b) = (1.0 + self.ka, 1.0 + self.kb);
         let within = if top_a > 0.0 && top_b > 0.0 {
             let margin = s.splat(1.0 - AXIS_MARGIN);
@@ -716,13 +721,24 @@ impl GeneralCone {
         out
     }
 
-    /// [`GeneralCone::contains`] of the points `p` in every lane.
+    /// The points `p` in every lane in the local frame, and the scales of
+    /// the cross-section's two semi-axes at their height, as
+    /// [`GeneralCone::inside_local`] and [`GeneralCone::normal`] work
+    /// them out.
     #[inline(always)]
-    fn inside_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> S::M {
+    fn local_scales_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> ([S::F; 3], S::F, S::F) {
         let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
         let one = s.splat(1.0);
         let sa = s.add(one, s.mul(s.splat(self.ka), q[2]));
         let sb = s.add(one, s.mul(s.splat(self.kb), q[2]));
+        (q, sa, sb)
+    }
+
+    /// [`GeneralCone::contains`] of the points `p` in every lane.
+    #[inline(always)]
+    fn inside_lanes<S: Simd>(&self, s: S, p: [S::F; 3]) -> S::M {
+        let (q, sa, sb) = self.local_scales_lanes(s, p);
+        let one = s.splat(1.0);
         let (x, y) = (s.div(q[0], sa), s.div(q[1], sb));
         let slab = s.and(s.gt(q[2], s.splat(0.0)), s.lt(q[2], one));
         s.and(slab, s.lt(s.add(s.mul(x, x), s.mul(y, y)), one))
@@ -732,10 +748,7 @@ impl GeneralCone {
     /// operation for operation.
     #[inline(always)]
     pub fn normal_lanes<S: Simd>(&self, s: S, face: S::F, p: [S::F; 3]) -> [S::F; 3] {
-        let q = mat_vec(s, &self.f.inv, sub_point(s, p, self.f.v));
-        let one = s.splat(1.0);
-        let sa = s.add(one, s.mul(s.splat(self.ka), q[2]));
-        let sb = s.add(one, s.mul(s.splat(self.kb), q[2]));
+        let (q, sa, sb) = self.local_scales_lanes(s, p);
         let (sa2, sb2) = (s.mul(sa, sa), s.mul(sb, sb));
         let bend = |q: S::F, k: f64, s2: S::F, s1: S::F| {
             s.div(s.mul(s.mul(q, q), s.splat(k)), s.mul(s2, s1))

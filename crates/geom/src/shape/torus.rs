@@ -52,14 +52,18 @@ impl Torus {
         self.shoot_quartic(ray, (o, d), range, out);
     }
 
+    /// The box around the tube in the torus's own frame.
+    fn local_box(&self) -> Aabb {
+        let e = self.r1 + self.r2;
+        Aabb::new(DVec3::new(-e, -e, -self.r2), DVec3::new(e, e, self.r2))
+    }
+
     /// `ray` in local space (origin and direction) and its range in the
     /// torus's box, if it crosses the box.
     fn local_range(&self, ray: &Ray) -> Option<(DVec3, DVec3, (f64, f64))> {
         let o = self.rot * (ray.origin - self.c);
         let d = self.rot * ray.dir;
-        let e = self.r1 + self.r2;
-        let lb = Aabb::new(DVec3::new(-e, -e, -self.r2), DVec3::new(e, e, self.r2));
-        let range = lb.ray_range(&Ray {
+        let range = self.local_box().ray_range(&Ray {
             origin: o,
             dir: d,
             inv_dir: d.recip(),
@@ -168,8 +172,7 @@ impl Torus {
         let mut second = SegLanes { ..first };
         let o = mat_vec(s, &self.rot, sub_point(s, r.o, self.c));
         let d = mat_vec(s, &self.rot, r.d);
-        let e = self.r1 + self.r2;
-        let (lo, hi, in_box) = ray_range_lanes(s, ([-e, -e, -self.r2], [e, e, self.r2]), o, d);
+        let (lo, hi, in_box) = ray_range_lanes(s, &self.local_box(), o, d);
         let m = s.and(m, in_box);
         let m = s.andnot(m, self.misses_clearly_lanes(s, o, d, (lo, hi)));
         if !s.any(m) {

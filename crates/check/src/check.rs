@@ -97,7 +97,7 @@ pub(crate) struct Plan {
 }
 
 impl Plan {
-    fn new(model: &Model, opts: &CheckOptions) -> Result<Plan, CheckError> {
+    pub(crate) fn new(model: &Model, opts: &CheckOptions) -> Result<Plan, CheckError> {
         let checked_box = checked_box(model, opts)?;
         let spacing = grid_spacing(checked_box.size(), opts)?;
         let tolerance = match opts.tolerance {

@@ -502,14 +502,23 @@ fn fire_grid_rays(
                 let origin: &mut [f64; 3] = ray.origin.as_mut();
                 origin[run.axes.0] = grid.along_row(&run, index);
             }
-            let row = (&rays[..], RaysShare::AllBut(run.axes.0));
-            let repeats = ray_check.partitions_of_rays(zones, row, 0.0, t1, parts);
+            // A packet near no zone (most of those that meet nothing) is
+            // not traced.
+            let near_none = zones.is_some_and(<[u32]>::is_empty);
+            let mut repeats = 0;
+            if near_none {
+                parts.iter_mut().for_each(Vec::clear);
+            } else {
+                let row = (&rays[..], RaysShare::AllBut(run.axes.0));
+                repeats = ray_check.partitions_of_rays(zones, row, 0.0, t1, parts);
+            }
             // Where a packet meets nothing (a third of some grids' packets)
-            // its rays are not classified one by one.
+            // its rays are not classified one by one: each ray after the
+            // first finds what the one before found, nothing.
             let met_nothing = parts[..rays.len()].iter().all(Vec::is_empty);
             if met_nothing && ray_check.run_on_empty() {
-                for (at, ray) in packet.zip(rays.iter()) {
-                    each(ray_check, ray, at, area, false);
+                for (lane, (at, ray)) in packet.zip(rays.iter()).enumerate() {
+                    each(ray_check, ray, at, area, lane > 0);
                 }
                 follows = true;
                 continue;
@@ -690,5 +699,77 @@ impl KindSums {
         let mut sums = self.sums.clone();
         sums.sort_by_key(|entry| entry.0);
         sums
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analyse::analyse_ray;
+    use crate::model::UniverseChoice;
+    use sv_formats::{load_source, Format, LoadOptions, SourceFile};
+
+    /// Two spheres at the ends of a long room, a box overlapping the
+    /// second: the rows between the spheres pass packets that meet one,
+    /// then packets near no zone (which are not traced); the box's faces
+    /// square to the rays give rays whose stretches repeat the ray
+    /// before's.
+    const ROOM: &str = "
+BODY room RPP -6 6 -2 2 -2 2
+BODY a    SPH (-4.5,0,0) 1.2
+BODY b    SPH (4.5,0.3,0) 1.2
+BODY c    RPP 3 5 -1 1 -0.5 0.5
+REGION A = +a
+REGION B = +b
+REGION C = +c
+";
+
+    /// Every grid ray of [`ROOM`], fired in packets along its row, finds
+    /// what it finds fired alone: with the room as the universe (voids
+    /// between the spheres, none of its rays taken as the ray before's)
+    /// and without one (overlaps only, and rays that repeat).
+    #[test]
+    fn grid_rays_in_packets_find_what_each_finds_alone() {
+        let source = SourceFile::new("test.sv", ROOM);
+        let scene = load_source(&source, Format::Native, &LoadOptions::default())
+            .expect("the test scene reads")
+            .scene;
+        for universe in [UniverseChoice::Named("room".into()), UniverseChoice::None] {
+            let (model, _) = Model::new(&scene, &universe).expect("the test model prepares");
+            let opts = CheckOptions {
+                spacing: Some(0.0913),
+                ..CheckOptions::default()
+            };
+            let plan = Plan::new(&model, &opts).expect("the plan");
+            let mut worker = Worker::new(&model);
+            let mut alone = RayCheck::new(&model);
+            let (mut fired, mut repeated_rays, mut found) = (0, 0, 0);
+            let mut sig_before = None;
+            let rays = 0..plan.grid.total();
+            fire_grid_rays(
+                &model,
+                &plan,
+                &mut worker,
+                rays,
+                |ray_check, ray, at, _, repeated| {
+                    let (grid_ray, t1, _) = plan.grid.ray(at);
+                    assert_eq!(ray.origin, grid_ray.origin, "ray {at}");
+                    analyse_ray(&mut alone, &grid_ray, 0.0, t1, plan.tolerance);
+                    assert_eq!(ray_check.findings, alone.findings, "ray {at}, {universe:?}");
+                    // A ray taken as the ray before sees what that one saw.
+                    let sig = signature(&alone.parts, plan.tolerance);
+                    assert!(!repeated || sig_before == Some(sig), "ray {at}");
+                    sig_before = Some(sig);
+                    fired += 1;
+                    repeated_rays += u64::from(repeated);
+                    found += u64::from(!alone.findings.is_empty());
+                },
+            );
+            assert_eq!(fired, plan.grid.total());
+            assert!(found > 100, "{found} rays found something, {universe:?}");
+            if universe == UniverseChoice::None {
+                assert!(repeated_rays > 1000, "{repeated_rays} rays repeated");
+            }
+        }
     }
 }

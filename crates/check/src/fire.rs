@@ -512,9 +512,10 @@ fn fire_grid_rays(
                 let row = (&rays[..], RaysShare::AllBut(run.axes.0));
                 repeats = ray_check.partitions_of_rays(zones, row, 0.0, t1, parts);
             }
-            // Where a packet meets nothing (a third of some grids' packets)
-            // its rays are not classified one by one: each ray after the
-            // first finds what the one before found, nothing.
+            // Where a packet meets nothing (a third of some grids' packets,
+            // nearly all of them near no zone) its rays are not classified
+            // one by one: each ray after the first finds what the one
+            // before found, nothing.
             let met_nothing = parts[..rays.len()].iter().all(Vec::is_empty);
             if met_nothing && ray_check.run_on_empty() {
                 for (lane, (at, ray)) in packet.zip(rays.iter()).enumerate() {

@@ -580,7 +580,8 @@ impl GeneralCone {
         // `shoot_with`: the slab between the caps, the box of the end
         // ellipses, and the range in both.
         let (t0, t1, f0, f1, slab_miss) = Frame::slab_lanes(s, o, d);
-        let (b0, b1, in_box) = ray_range_lanes(s, &self.local_box(), o, d);
+        let local_box = self.local_box();
+        let (b0, b1, in_box) = ray_range_lanes(s, &local_box, o, d);
         let (lo, hi) = (max_num(s, t0, b0), min_num(s, t1, b1));
         let met = s.andnot(s.and(in_box, s.lt(lo, hi)), slab_miss);
         let ends = [
@@ -594,10 +595,9 @@ impl GeneralCone {
             s.add(s.mul(x, x), s.mul(y, y))
         };
         let along_axis = s.and(along_axis, met);
-        let beside = s.gt(
-            against(m2(self.ka), m2(self.kb)),
-            s.splat(1.0 + AXIS_MARGIN),
-        );
+        // The box's sides: the end ellipses' larger semi-axes.
+        let (ma, mb) = (local_box.max.x, local_box.max.y);
+        let beside = s.gt(against(ma, mb), s.splat(1.0 + AXIS_MARGIN));
         let (top_a, top_b) = (1.0 + self.ka, 1.0 + self.kb);
         let within = if top_a > 0.0 && top_b > 0.0 {
             let margin = s.splat(1.0 - AXIS_MARGIN);

@@ -1,6 +1,7 @@
 //! What one ray sees: overlaps, voids and space outside the universe.
 
 use crate::model::{Hull, Model};
+use crate::refine::{signature, Signer};
 use sv_math::Ray;
 use sv_trace::{Partition, RaysShare, Scratch};
 
@@ -42,6 +43,8 @@ pub struct RayCheck<'a> {
     cover: Vec<(f64, f64)>,
     /// Problems found on the last ray.
     pub findings: Vec<Finding>,
+    /// The [`signature`] of the last ray's partitions.
+    pub(crate) signature: u64,
 }
 
 /// Classify one ray: overlaps longer than `tol` always; voids and
@@ -75,6 +78,7 @@ impl<'a> RayCheck<'a> {
             hull: Vec::new(),
             cover: Vec::new(),
             findings: Vec::new(),
+            signature: signature(&[], 0.0),
         }
     }
 
@@ -164,6 +168,8 @@ impl<'a> RayCheck<'a> {
         // nothing, and are not classified.
         if self.parts.len() > 1 || self.model.hull.is_some() {
             self.classify(ray, tmin, tmax, tol);
+        } else {
+            self.signature = signature(&self.parts, tol);
         }
     }
 
@@ -203,13 +209,21 @@ impl<'a> RayCheck<'a> {
         }
         self.parts.clear();
         self.findings.clear();
+        self.signature = signature(&[], 0.0);
         true
     }
 
-    /// The problems along the ray of the partitions in `self.parts`.
+    /// The problems along the ray of the partitions in `self.parts`, and
+    /// their signature, read in the same pass.
     fn classify(&mut self, ray: &Ray, tmin: f64, tmax: f64, tol: f64) {
         let parts = &self.parts;
+        let mut signer = Signer::NONE;
         for (index, part) in parts.iter().enumerate() {
+            if index == 0 {
+                signer.first(part);
+            } else {
+                signer.next(part, tol);
+            }
             for later in &parts[index + 1..] {
                 if later.span.a.t >= part.span.b.t {
                     break;
@@ -229,6 +243,7 @@ impl<'a> RayCheck<'a> {
                 }
             }
         }
+        self.signature = signer.hash;
         let Some(hull) = &self.model.hull else {
             return;
         };

@@ -5,7 +5,7 @@ use crate::analyse::{FindingKind, RayCheck};
 use crate::check::{CheckOptions, Plan};
 use crate::grid::random_ray;
 use crate::model::Model;
-use crate::refine::{signature, Bundle, Signatures};
+use crate::refine::{Bundle, Signatures};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -109,10 +109,7 @@ pub(crate) fn fire_chunks(
     let seen = Met::new(model.names.len());
     let refining = plan.refinement.levels > 0;
     let grid = &plan.grid;
-    let mut sigs = Signatures {
-        first: chunks.start * CHUNK,
-        sigs: Vec::new(),
-    };
+    let mut sigs = Signatures::starting_at(chunks.start * CHUNK);
     if refining {
         sigs = signatures_before(model, plan, chunks.start * CHUNK);
     }
@@ -121,15 +118,14 @@ pub(crate) fn fire_chunks(
         let batch = first..(first + BATCH).min(chunks.end);
         // Each chunk's signatures go straight to their place, after those
         // held from before.
-        let held = sigs.sigs.len();
         let batch_grid_rays = if refining {
             let total = grid.total();
             (batch.end * CHUNK).min(total) - (batch.start * CHUNK).min(total)
         } else {
             0
         };
-        sigs.sigs.resize(held + batch_grid_rays as usize, 0);
-        let mut slots: Vec<&mut [u64]> = sigs.sigs[held..].chunks_mut(CHUNK as usize).collect();
+        let new_sigs = sigs.places_for(batch_grid_rays as usize);
+        let mut slots: Vec<&mut [u64]> = new_sigs.chunks_mut(CHUNK as usize).collect();
         slots.resize_with((batch.end - batch.start) as usize, Default::default);
         let mut sums: Vec<KindSums> = slots
             .into_par_iter()
@@ -174,14 +170,13 @@ pub(crate) fn fire_chunks(
 fn signatures_before(model: &Model, plan: &Plan, start: u64) -> Signatures {
     let start = start.min(plan.grid.total());
     let rays = start.saturating_sub(plan.grid.longest_row())..start;
-    let mut sigs = Signatures {
-        first: rays.start,
-        sigs: Vec::with_capacity((rays.end - rays.start) as usize),
-    };
-    let tolerance = plan.tolerance;
+    let mut sigs = Signatures::starting_at(rays.start);
+    let mut places = sigs.places_for((rays.end - rays.start) as usize).iter_mut();
     let mut worker = Worker::new(model);
     fire_grid_rays(model, plan, &mut worker, rays, |ray_check, _, _, _, _| {
-        sigs.sigs.push(signature(&ray_check.parts, tolerance));
+        if let Some(place) = places.next() {
+            *place = ray_check.signature;
+        }
     });
     sigs
 }
@@ -216,7 +211,7 @@ fn refine_chunks(
             },
         );
     }
-    (sums.iter().map(KindSums::sorted).collect(), fired)
+    (sums.iter_mut().map(KindSums::take_sorted).collect(), fired)
 }
 
 /// Where each zone lies within the box the rays cross, padded by the
@@ -390,12 +385,14 @@ impl RowZones {
 const PACKET: u64 = 8;
 
 /// Working memory of a thread: the rays' classification, the zones of the
-/// row under way, and a packet's rays and partitions.
+/// row under way, a packet's rays and partitions, and how many kinds of
+/// finding its last chunk found.
 struct Worker<'a> {
     ray_check: RayCheck<'a>,
     row: RowZones,
     rays: Vec<Ray>,
     parts: Vec<Vec<Partition>>,
+    kinds: usize,
 }
 
 impl<'a> Worker<'a> {
@@ -405,6 +402,7 @@ impl<'a> Worker<'a> {
             row: RowZones::default(),
             rays: Vec::with_capacity(PACKET as usize),
             parts: vec![Vec::new(); PACKET as usize],
+            kinds: 0,
         }
     }
 }
@@ -424,7 +422,9 @@ fn fire_chunk(
     let (grid, checked_box, tolerance) = (&plan.grid, &plan.checked_box, plan.tolerance);
     let grid_rays = grid.total();
     let end = ((chunk + 1) * CHUNK).min(grid_rays + opts.random);
-    let mut sums = KindSums::default();
+    // Neighbouring chunks find much the same kinds: room for as many as
+    // the last, made once instead of grown kind by kind.
+    let mut sums = KindSums::with_capacity(worker.kinds);
     let refining = plan.refinement.levels > 0;
     let rays = chunk * CHUNK..end.min(grid_rays);
     let mut sig_slots = sigs.iter_mut();
@@ -438,10 +438,8 @@ fn fire_chunk(
             let mut as_before = repeated;
             if refining {
                 if let Some(slot) = sig_slots.next() {
-                    let sig = match last_sig {
-                        Some(sig) if repeated => sig,
-                        _ => signature(&ray_check.parts, tolerance),
-                    };
+                    // A repeated ray's is the ray before's, kept.
+                    let sig = ray_check.signature;
                     *slot = sig;
                     as_before = last_sig.replace(sig) == Some(sig);
                 }
@@ -463,6 +461,7 @@ fn fire_chunk(
             gather(ray_check, &ray, at, 0.0, &mut sums, Some(seen));
         }
     }
+    worker.kinds = sums.sums.len();
     sums
 }
 
@@ -526,13 +525,16 @@ fn fire_grid_rays(
             }
             // Where faces square to the rays cross a row (most of a boxy
             // deck's), neighbouring rays see the same stretches to the
-            // bit, and one's findings are the other's.
+            // bit, and one's findings are the other's. The packet has
+            // compared each lane after the first with the lane before:
+            // only the first is compared here, with the last packet's last.
             let lanes = packet.zip(rays.iter().zip(parts.iter_mut()));
             for (lane, (at, (ray, ray_parts))) in lanes.enumerate() {
                 let range = (0.0, t1, plan.tolerance);
                 let as_last = repeats >> lane & 1 != 0;
+                let compare = follows && lane == 0;
                 let repeated =
-                    ray_check.run_on_unless_repeated(ray_parts, ray, range, (follows, as_last));
+                    ray_check.run_on_unless_repeated(ray_parts, ray, range, (compare, as_last));
                 each(ray_check, ray, at, area, repeated);
                 follows = true;
             }
@@ -630,10 +632,11 @@ pub(crate) struct KindSums {
 /// Slots of [`KindSums`]'s table: a power of two.
 const KIND_SLOTS: usize = 256;
 
-impl Default for KindSums {
-    fn default() -> KindSums {
+impl KindSums {
+    /// No sums yet, with room for `kinds` kinds.
+    fn with_capacity(kinds: usize) -> KindSums {
         KindSums {
-            sums: Vec::new(),
+            sums: Vec::with_capacity(kinds),
             slots: [0; KIND_SLOTS],
         }
     }
@@ -695,9 +698,9 @@ impl KindSums {
         }
     }
 
-    /// The sums in order of kind.
-    fn sorted(&self) -> ChunkFindings {
-        let mut sums = self.sums.clone();
+    /// The sums in order of kind, taken (none are left).
+    fn take_sorted(&mut self) -> ChunkFindings {
+        let mut sums = std::mem::take(&mut self.sums);
         sums.sort_by_key(|entry| entry.0);
         sums
     }
@@ -708,6 +711,7 @@ mod tests {
     use super::*;
     use crate::analyse::analyse_ray;
     use crate::model::UniverseChoice;
+    use crate::refine::signature;
     use sv_formats::{load_source, Format, LoadOptions, SourceFile};
 
     /// Two spheres at the ends of a long room, a box overlapping the
@@ -726,9 +730,10 @@ REGION C = +c
 ";
 
     /// Every grid ray of [`ROOM`], fired in packets along its row, finds
-    /// what it finds fired alone: with the room as the universe (voids
-    /// between the spheres, none of its rays taken as the ray before's)
-    /// and without one (overlaps only, and rays that repeat).
+    /// what it finds fired alone, and has its signature: with the room as
+    /// the universe (voids between the spheres, none of its rays taken as
+    /// the ray before's) and without one (overlaps only, and rays that
+    /// repeat).
     #[test]
     fn grid_rays_in_packets_find_what_each_finds_alone() {
         let source = SourceFile::new("test.sv", ROOM);
@@ -757,9 +762,12 @@ REGION C = +c
                     assert_eq!(ray.origin, grid_ray.origin, "ray {at}");
                     analyse_ray(&mut alone, &grid_ray, 0.0, t1, plan.tolerance);
                     assert_eq!(ray_check.findings, alone.findings, "ray {at}, {universe:?}");
-                    // A ray taken as the ray before sees what that one saw.
+                    // A ray taken as the ray before sees what that one saw,
+                    // and the signature worked out with the classification
+                    // (or kept) is the ray's.
                     let sig = signature(&alone.parts, plan.tolerance);
                     assert!(!repeated || sig_before == Some(sig), "ray {at}");
+                    assert_eq!(ray_check.signature, sig, "ray {at}, {universe:?}");
                     sig_before = Some(sig);
                     fired += 1;
                     repeated_rays += u64::from(repeated);

@@ -31,48 +31,102 @@ use sv_trace::{Partition, RaysShare};
 /// meets the one before (overlapping it, touching it within `tol`, or
 /// after a gap), hashed (FNV-1a over the numbers).
 pub(crate) fn signature(parts: &[Partition], tol: f64) -> u64 {
-    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
-    let mut mix = |x: u64| {
-        hash = (hash ^ x).wrapping_mul(0x0000_0100_0000_01b3);
-    };
+    let mut signer = Signer::NONE;
     let Some((first, rest)) = parts.split_first() else {
-        return hash;
+        return signer.hash;
     };
-    mix(u64::from(first.region) << 2);
-    let mut reach = f64::NEG_INFINITY.max(first.span.b.t);
+    signer.first(first);
     for part in rest {
+        signer.next(part, tol);
+    }
+    signer.hash
+}
+
+/// A [`signature`] worked out a part at a time, in order of entry (the
+/// classification of a ray works it out as it reads the parts).
+pub(crate) struct Signer {
+    /// The hash of the parts so far.
+    pub hash: u64,
+    /// The farthest exit of the parts so far.
+    reach: f64,
+}
+
+impl Signer {
+    /// No parts yet.
+    pub const NONE: Signer = Signer {
+        hash: 0xcbf2_9ce4_8422_2325,
+        reach: f64::NEG_INFINITY,
+    };
+
+    fn mix(&mut self, x: u64) {
+        self.hash = (self.hash ^ x).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+
+    /// Add the first part.
+    #[inline(always)]
+    pub fn first(&mut self, part: &Partition) {
+        self.mix(u64::from(part.region) << 2);
+        self.reach = f64::NEG_INFINITY.max(part.span.b.t);
+    }
+
+    /// Add a part after the first.
+    #[inline(always)]
+    pub fn next(&mut self, part: &Partition, tol: f64) {
         let (a, b) = (part.span.a.t, part.span.b.t);
         // 1 after a gap, 2 overlapping, 3 touching, worked out without
         // branches: which of the three comes is not predictable.
-        let gap = u64::from(a > reach + tol);
-        let overlap = u64::from(a < reach - tol);
-        mix(u64::from(part.region) << 2 | (3 - 2 * gap - overlap));
-        reach = reach.max(b);
+        let gap = u64::from(a > self.reach + tol);
+        let overlap = u64::from(a < self.reach - tol);
+        self.mix(u64::from(part.region) << 2 | (3 - 2 * gap - overlap));
+        self.reach = self.reach.max(b);
     }
-    hash
 }
 
 /// The signatures of a stretch of grid rays, by index.
-#[derive(Default)]
 pub(crate) struct Signatures {
     /// Index of the first ray held.
-    pub first: u64,
-    pub sigs: Vec<u64>,
+    first: u64,
+    /// The signatures held, then places used before: the places of the
+    /// next rays are written over, not cleared first.
+    sigs: Vec<u64>,
+    /// How many are held.
+    held: usize,
 }
 
 impl Signatures {
+    /// None held yet; the first to come is ray `first`'s.
+    pub fn starting_at(first: u64) -> Signatures {
+        Signatures {
+            first,
+            sigs: Vec::new(),
+            held: 0,
+        }
+    }
+
+    /// The places of the signatures of the next `count` rays, after those
+    /// held, which the caller writes: they are held from now on.
+    pub fn places_for(&mut self, count: usize) -> &mut [u64] {
+        let (start, end) = (self.held, self.held + count);
+        if self.sigs.len() < end {
+            self.sigs.resize(end, 0);
+        }
+        self.held = end;
+        &mut self.sigs[start..end]
+    }
+
     /// The signatures of rays `rays`, if all are held.
     pub fn window(&self, rays: Range<u64>) -> Option<&[u64]> {
         let start = usize::try_from(rays.start.checked_sub(self.first)?).ok()?;
         let end = usize::try_from(rays.end.checked_sub(self.first)?).ok()?;
-        self.sigs.get(start..end)
+        self.sigs[..self.held].get(start..end)
     }
 
     /// Keep only the signatures from ray `from` on.
     pub fn keep_from(&mut self, from: u64) {
-        let drop = from.saturating_sub(self.first).min(self.sigs.len() as u64);
-        self.sigs.drain(..drop as usize);
-        self.first += drop;
+        let drop = from.saturating_sub(self.first).min(self.held as u64) as usize;
+        self.sigs.copy_within(drop..self.held, 0);
+        self.held -= drop;
+        self.first += drop as u64;
     }
 }
 
@@ -342,20 +396,15 @@ impl Refinement {
         // The bundle's rays lie in one tile: along one axis.
         let rays = (&bundle.rays[..], RaysShare::Direction);
         let repeats = ray_check.partitions_of_rays(zones, rays, 0.0, tmax, parts);
-        let mut last_sig = 0;
         let lanes = pieces.iter().zip(&bundle.rays).zip(&mut bundle.parts);
         for (lane, ((piece, ray), parts)) in lanes.enumerate() {
             // A ray whose stretches the packet left as the ray before's
             // keeps that ray's findings and signature.
             let as_last = (false, repeats >> lane & 1 != 0);
-            let repeated = ray_check.run_on_unless_repeated(parts, ray, (0.0, tmax, tol), as_last);
+            ray_check.run_on_unless_repeated(parts, ray, (0.0, tmax, tol), as_last);
             let segment = &segments[piece.segment as usize];
-            let sig = if repeated {
-                last_sig
-            } else {
-                signature(&ray_check.parts, tol)
-            };
-            last_sig = sig;
+            // A repeated ray's is the ray before's, kept.
+            let sig = ray_check.signature;
             let [low, high] = piece.ends;
             let as_an_end = sig == low.1 || sig == high.1;
             found(

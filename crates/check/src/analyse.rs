@@ -3,7 +3,7 @@
 use crate::model::{Hull, Model};
 use crate::refine::{signature, Signer};
 use sv_math::Ray;
-use sv_trace::{Partition, RaysShare, Scratch};
+use sv_trace::{leave_repeats_empty, same_stretches, Partition, RaysShare, Scratch};
 
 /// What kind of problem a stretch of ray is.
 #[derive(
@@ -142,10 +142,10 @@ impl<'a> RayCheck<'a> {
                 prepared.stretches_of_rays_in(zones, rays, tmin, tmax, &mut self.s, out)
             }
             None => {
-                for (ray, parts) in rays.iter().zip(out) {
+                for (ray, parts) in rays.iter().zip(out.iter_mut()) {
                     prepared.partitions(ray, tmin, tmax, &mut self.s, parts);
                 }
-                0
+                leave_repeats_empty(&mut out[..rays.len()])
             }
         }
     }
@@ -346,17 +346,6 @@ impl RayCheck<'_> {
             t1,
         });
     }
-}
-
-/// Whether `a` and `b` hold the same regions over the same distances, to
-/// the bit: what a classification reads of them.
-fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(a, b)| {
-            a.region == b.region
-                && a.span.a.t.to_bits() == b.span.a.t.to_bits()
-                && a.span.b.t.to_bits() == b.span.b.t.to_bits()
-        })
 }
 
 fn neighbour_before(parts: &[Partition], t: f64, tol: f64) -> Option<u32> {

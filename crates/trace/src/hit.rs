@@ -147,6 +147,37 @@ pub struct Partition {
     pub span: Span,
 }
 
+/// Whether `a` and `b` hold the same regions over the same distances, to
+/// the bit (the stretches of a check; bodies and faces are not read).
+pub fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(a, b)| {
+            a.region == b.region
+                && a.span.a.t.to_bits() == b.span.a.t.to_bits()
+                && a.span.b.t.to_bits() == b.span.b.t.to_bits()
+        })
+}
+
+/// Leave empty each list of `parts` after the first whose stretches are
+/// the list before's ([`same_stretches`]), as the lanes of
+/// [`Prepared::stretches_of_rays_in`] leave them; the lists so left (bit
+/// `k` for list `k`, of the first 64).
+pub fn leave_repeats_empty(parts: &mut [Vec<Partition>]) -> u64 {
+    let mut repeats = 0;
+    // The last list left as it was: those after it left empty are its.
+    let mut kept = 0;
+    for k in 1..parts.len().min(64) {
+        let (before, this) = parts.split_at_mut(k);
+        if same_stretches(&before[kept], &this[0]) {
+            this[0].clear();
+            repeats |= 1 << k;
+        } else {
+            kept = k;
+        }
+    }
+    repeats
+}
+
 /// One surface crossing along a ray (for `shoot`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Crossing {

@@ -36,7 +36,9 @@ mod raster;
 mod zone;
 
 pub use frustum::{Frustum, RasterExtent};
-pub use hit::{by_entry, Crossing, Hit, Partition, Scratch, Step};
+pub use hit::{
+    by_entry, leave_repeats_empty, same_stretches, Crossing, Hit, Partition, Scratch, Step,
+};
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use occlusion::{LightAt, Occluders, ShadowBuffers};
 pub use packet::{RaysShare, Tile, FACING_MISS};

@@ -6,7 +6,7 @@
 
 use super::primary::lanes_of;
 use super::{within, End, RaysShare, SpanLanes};
-use crate::hit::{Partition, Scratch};
+use crate::hit::{leave_repeats_empty, same_stretches, Partition, Scratch};
 use crate::prepare::Prepared;
 use crate::query::{insert_by_entry, insert_spans};
 use sv_geom::boolean::{Bound, Span};
@@ -54,7 +54,10 @@ impl Prepared {
     /// Returns the rays (bit `k` for ray `k`, of the first 64) whose
     /// stretches are those of the ray before them, to the bit: their
     /// lists in `out` are left empty. Neighbouring rays of a row often
-    /// cross the same faces, square to them, at the same distances.
+    /// cross the same faces, square to them, at the same distances. Every
+    /// ray but the first is compared with the ray before: in the lanes,
+    /// or once made where the lanes cannot (the first of a vector, or
+    /// every ray where there are no lanes here).
     ///
     /// `share` says what the rays share, to the bit (a check's rays fired
     /// together share their direction, and a row's all but one
@@ -72,14 +75,16 @@ impl Prepared {
             share.holds_for(rays),
             "rays do not share what {share:?} says"
         );
+        let count = rays.len();
         let rays = (rays, share);
         self.partitions_of_rays_with(stretches_any, zones, rays, (tmin, tmax), s, out)
+            .unwrap_or_else(|| leave_repeats_empty(&mut out[..count]))
     }
 
     /// The partitions of `rays` by `packets` where the processor has
-    /// vector instructions for it, else ray by ray; and the rays whose
-    /// stretches were left as the ray before's (see
-    /// [`Prepared::stretches_of_rays_in`]).
+    /// vector instructions for it, and the rays whose stretches were left
+    /// as the ray before's (see [`Prepared::stretches_of_rays_in`]); else
+    /// ray by ray, and `None`.
     fn partitions_of_rays_with(
         &self,
         packets: PacketsOfRays,
@@ -88,19 +93,19 @@ impl Prepared {
         (tmin, tmax): (f64, f64),
         s: &mut Scratch,
         out: &mut [Vec<Partition>],
-    ) -> u64 {
+    ) -> Option<u64> {
         assert!(
             out.len() >= rays.len(),
             "a list of partitions for every ray"
         );
         let packets_of = (rays, share);
         if let Some(repeats) = packets(self, zones, packets_of, tmin, tmax, s, out) {
-            return repeats;
+            return Some(repeats);
         }
         for (ray, parts) in rays.iter().zip(out) {
             self.partitions_in(zones, ray, tmin, tmax, s, parts);
         }
-        0
+        None
     }
 
     /// [`Prepared::partitions_of_rays_in`] in packets of `S::LANES` rays
@@ -162,6 +167,19 @@ impl Prepared {
             }
             if held.alike != 0 {
                 repeats |= u64::from(held.alike) << (at * S::LANES);
+            }
+        }
+        if !BODIES {
+            // The lanes compare rays within a vector: the first of each
+            // vector after the first is compared with the ray before once
+            // made (with the last one made before it).
+            for first in (S::LANES..rays.len().min(64)).step_by(S::LANES) {
+                let made = (0..first).rev().find(|&k| repeats >> k & 1 == 0);
+                let (before, this) = out.split_at_mut(first);
+                if made.is_some_and(|made| same_stretches(&before[made], &this[0])) {
+                    this[0].clear();
+                    repeats |= 1 << first;
+                }
             }
         }
         repeats

@@ -1,15 +1,8 @@
 //! Partitions in packets against the rays traced one by one.
 
 use super::*;
-use crate::{Partition, PrepareOptions};
+use crate::{same_stretches, Partition, PrepareOptions};
 use rand::SeedableRng;
-
-/// Bit-for-bit equality of the regions and distances of two partition
-/// lists.
-fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
-    let bits = |p: &Partition| (p.region, [p.span.a.t.to_bits(), p.span.b.t.to_bits()]);
-    a.len() == b.len() && a.iter().zip(b).all(|(p, q)| bits(p) == bits(q))
-}
 
 /// Bit-for-bit equality of two partition lists.
 fn same_parts(a: &[Partition], b: &[Partition]) -> bool {
@@ -65,6 +58,13 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
         let p = Prepared::new(&g, &PrepareOptions::default()).unwrap().0;
         let all: Vec<u32> = (0..p.zones.len() as u32).collect();
         let mut s = Scratch::new(&p);
+        // The same, traced one by one (no lanes).
+        let brute_force = PrepareOptions {
+            brute_force: true,
+            ..PrepareOptions::default()
+        };
+        let alone = Prepared::new(&g, &brute_force).unwrap().0;
+        let mut s_alone = Scratch::new(&alone);
         for batch in 0..60 {
             let (mut rays, _, _) = rays(&mut rng, batch);
             // Some batches' rays take the first's direction, some its
@@ -143,6 +143,16 @@ fn packets_give_the_partitions_of_rays_traced_one_by_one() {
                     &mut s,
                     o,
                 );
+                repeated.set(repeated.get() + repeat(o, repeats));
+            });
+            check_stretches("stretches, no lanes", &mut |o| {
+                let rays = (&rays[..], shared);
+                let repeats = alone.stretches_of_rays_in(&all, rays, tmin, tmax, &mut s_alone, o);
+                // Every ray but the first is compared with the ray before.
+                for k in 1..one.len().min(64) {
+                    let same = same_stretches(&one[k], &one[k - 1]);
+                    assert_eq!(repeats >> k & 1 != 0, same, "no lanes, ray {k}");
+                }
                 repeated.set(repeated.get() + repeat(o, repeats));
             });
             check_stretches("stretches, the widest here", &mut |o| {

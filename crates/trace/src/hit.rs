@@ -163,19 +163,22 @@ pub fn same_stretches(a: &[Partition], b: &[Partition]) -> bool {
 /// [`Prepared::stretches_of_rays_in`] leave them; the lists so left (bit
 /// `k` for list `k`, of the first 64).
 pub fn leave_repeats_empty(parts: &mut [Vec<Partition>]) -> u64 {
-    let mut repeats = 0;
-    // The last list left as it was: those after it left empty are its.
-    let mut kept = 0;
-    for k in 1..parts.len().min(64) {
-        let (before, this) = parts.split_at_mut(k);
-        if same_stretches(&before[kept], &this[0]) {
-            this[0].clear();
-            repeats |= 1 << k;
-        } else {
-            kept = k;
-        }
+    (1..parts.len().min(64)).fold(0, |repeats, k| leave_empty_if_repeat(parts, k, repeats))
+}
+
+/// `repeats` (lists of `parts` left empty as the list before's, bit `k`
+/// for list `k`; never the first), with list `k` (`1..64`) left empty
+/// too if its stretches are those of the last list before it that is
+/// not ([`same_stretches`]).
+pub(crate) fn leave_empty_if_repeat(parts: &mut [Vec<Partition>], k: usize, repeats: u64) -> u64 {
+    let kept_before = !repeats & ((1 << k) - 1);
+    let kept = 63 - kept_before.leading_zeros() as usize;
+    let (before, this) = parts.split_at_mut(k);
+    if !same_stretches(&before[kept], &this[0]) {
+        return repeats;
     }
-    repeats
+    this[0].clear();
+    repeats | 1 << k
 }
 
 /// One surface crossing along a ray (for `shoot`).

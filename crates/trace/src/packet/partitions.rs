@@ -6,7 +6,7 @@
 
 use super::primary::lanes_of;
 use super::{within, End, RaysShare, SpanLanes};
-use crate::hit::{leave_repeats_empty, same_stretches, Partition, Scratch};
+use crate::hit::{leave_empty_if_repeat, leave_repeats_empty, Partition, Scratch};
 use crate::prepare::Prepared;
 use crate::query::{insert_by_entry, insert_spans};
 use sv_geom::boolean::{Bound, Span};
@@ -174,12 +174,7 @@ impl Prepared {
             // vector after the first is compared with the ray before once
             // made (with the last one made before it).
             for first in (S::LANES..rays.len().min(64)).step_by(S::LANES) {
-                let made = (0..first).rev().find(|&k| repeats >> k & 1 == 0);
-                let (before, this) = out.split_at_mut(first);
-                if made.is_some_and(|made| same_stretches(&before[made], &this[0])) {
-                    this[0].clear();
-                    repeats |= 1 << first;
-                }
+                repeats = leave_empty_if_repeat(out, first, repeats);
             }
         }
         repeats

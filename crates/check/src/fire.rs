@@ -90,8 +90,12 @@ const BATCH: u64 = 1024;
 /// Chunks refined together: the refinement rays of neighbouring chunks
 /// and rows share packets (each ray's findings still go to its own
 /// chunk's sums, in an order that depends on the chunk alone; see
-/// [`crate::refine`]).
-const REFINE_GROUP: usize = 64;
+/// [`crate::refine`]). More chunks make taller tiles, with more pieces
+/// to fill each bundle and fewer tiles to list zones for; fewer leave
+/// every thread of the pool a few groups of each batch to take.
+fn refine_group() -> usize {
+    (BATCH as usize / (4 * rayon::current_num_threads())).clamp(64, 256)
+}
 
 /// Fire the chunks `chunks` of the grid and random rays on the rayon pool,
 /// each followed by the refinement rays of the neighbouring grid rays that
@@ -138,13 +142,14 @@ pub(crate) fn fire_chunks(
                 },
             )
             .collect();
+        let group = refine_group();
         let done: Vec<(Vec<ChunkFindings>, u64)> = sums
-            .par_chunks_mut(REFINE_GROUP)
+            .par_chunks_mut(group)
             .enumerate()
             .map_init(
                 || (RayCheck::new(model), Bundle::default()),
                 |(ray_check, bundle), (at, group_sums)| {
-                    let first = batch.start + (at * REFINE_GROUP) as u64;
+                    let first = batch.start + (at * group) as u64;
                     let work = (ray_check, bundle);
                     refine_chunks(plan, work, first, &sigs, group_sums, &seen)
                 },

@@ -477,8 +477,11 @@ REGION B = +b
 REGION C = +c
 ";
     let m = model(text, UniverseChoice::None);
+    // 129,000 grid rays: over 500 chunks, which the refinement takes in
+    // groups whose size follows the number of threads.
     let opts = CheckOptions {
         random: 3000,
+        spacing: Some(0.015),
         ..Default::default()
     };
     let run = |n: usize| {
@@ -492,6 +495,8 @@ REGION C = +c
     };
     let one = run(1);
     assert_eq!(one.overlaps.len(), 2);
+    assert!(one.grid_rays > 100_000 && one.refine_rays > 0);
+    assert_eq!(one, run(2));
     assert_eq!(one, run(3));
 }
 

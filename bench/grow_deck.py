@@ -110,9 +110,12 @@ def main():
                     help="the ground's top (default: the lowest corner of the boxes and polyhedra)")
     args = ap.parse_args()
     lines = open(args.deck).read().split("\n")
-    counts = lines[1].split()
+    counts = lines[1].split() if len(lines) > 1 else []
     if len(counts) < 2:
         fail(2, "expected the numbers of bodies and regions (GIFT v5)")
+    if not lines[1][:10].strip():
+        fail(2, "the counts are where GIFT v4 puts them: only v5 decks are read "
+             "(their body cards' columns differ)")
     n_bodies, n_regions = int(counts[0]), int(counts[1])
     bodies, at = body_cards(lines, 2, n_bodies)
     regions = []

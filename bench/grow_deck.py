@@ -60,6 +60,14 @@ def body_cards(lines, start, count):
     return bodies, at
 
 
+def integer(line_no, text, what):
+    """`text` (a field of the card on line `line_no`) as an integer, blank as 0."""
+    try:
+        return int(text.strip() or 0)
+    except ValueError:
+        fail(line_no, f"{text.strip()!r} is not a whole number ({what})")
+
+
 def numbers(line_no, cards):
     values = []
     for n, card in enumerate(cards):
@@ -116,7 +124,9 @@ def main():
     if not lines[1][:10].strip():
         fail(2, "the counts are where GIFT v4 puts them: only v5 decks are read "
              "(their body cards' columns differ)")
-    n_bodies, n_regions = int(counts[0]), int(counts[1])
+    n_bodies, n_regions = (
+        integer(2, count, "the numbers of bodies and regions") for count in counts[:2]
+    )
     bodies, at = body_cards(lines, 2, n_bodies)
     regions = []
     while at < len(lines) and lines[at].strip() != "-1":
@@ -161,19 +171,21 @@ def main():
                 head = label + card[5:10]
                 out_bodies.append(card_text(head, new[6 * n:6 * n + 6], card[70:]))
         for line_no, card in regions:
-            region = card[:5].strip()
+            region = integer(line_no, card[:5], "a region number, columns 1-5")
             fields = []
             for k in range(9):
                 field = card[6 + 7 * k:13 + 7 * k]
-                op, number = field[:2], int(field[2:].strip() or 0)
+                op = field[:2]
+                number = integer(line_no, field[2:], f"a body number, columns {9 + 7 * k}-{13 + 7 * k}")
                 shift = n_regions if op[1:].lower() == "g" else n_bodies
                 if number:
                     number += c * shift if number > 0 else -c * shift
                 fields.append(f"{op:2s}{number:5d}")
-            head = f"{int(region) + c * n_regions:5d}" if region else " " * 5
+            head = f"{region + c * n_regions:5d}" if region else " " * 5
             out_regions.append(head + " " + "".join(fields) + card[69:])
         for line_no, card in idents:
-            region, ident = int(card[:5]), int(card[5:10])
+            region = integer(line_no, card[:5], "a region number, columns 1-5")
+            ident = integer(line_no, card[5:10], "an ident, columns 6-10")
             ident = ident + c * n_regions if ident else 0
             out_idents.append(f"{region + c * n_regions:<5d}{ident:<5d}" + card[10:])
     total_bodies, total_regions = len(copies) * n_bodies, len(copies) * n_regions

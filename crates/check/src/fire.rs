@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use sv_math::{Aabb, DVec3, Ray};
-use sv_trace::{Partition, Prepared, RaysShare};
+use sv_trace::{Partition, PerThread, Prepared, RaysShare};
 
 /// The summed stretches of one kind of finding.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -118,6 +118,10 @@ pub(crate) fn fire_chunks(
         sigs = signatures_before(model, plan, chunks.start * CHUNK);
     }
     let mut refined = 0;
+    // Working memory kept from batch to batch: made anew, a refinement's
+    // lists grow again, and their pages are faulted in again.
+    let workers = PerThread::new();
+    let refiners = PerThread::new();
     for first in chunks.clone().step_by(BATCH as usize) {
         let batch = first..(first + BATCH).min(chunks.end);
         // Each chunk's signatures go straight to their place, after those
@@ -134,26 +138,28 @@ pub(crate) fn fire_chunks(
         let mut sums: Vec<KindSums> = slots
             .into_par_iter()
             .enumerate()
-            .map_init(
-                || Worker::new(model),
-                |worker, (at, chunk_sigs)| {
-                    let chunk = batch.start + at as u64;
-                    fire_chunk(model, plan, opts, worker, (chunk, chunk_sigs), &seen)
-                },
-            )
+            .map(|(at, chunk_sigs)| {
+                let chunk = batch.start + at as u64;
+                workers.with(
+                    || Worker::new(model),
+                    |worker| fire_chunk(model, plan, opts, worker, (chunk, chunk_sigs), &seen),
+                )
+            })
             .collect();
         let group = refine_group();
         let done: Vec<(Vec<ChunkFindings>, u64)> = sums
             .par_chunks_mut(group)
             .enumerate()
-            .map_init(
-                || (RayCheck::new(model), Bundle::default()),
-                |(ray_check, bundle), (at, group_sums)| {
-                    let first = batch.start + (at * group) as u64;
-                    let work = (ray_check, bundle);
-                    refine_chunks(plan, work, first, &sigs, group_sums, &seen)
-                },
-            )
+            .map(|(at, group_sums)| {
+                let first = batch.start + (at * group) as u64;
+                refiners.with(
+                    || (RayCheck::new(model), Bundle::default()),
+                    |(ray_check, bundle)| {
+                        let work = (ray_check, bundle);
+                        refine_chunks(plan, work, first, &sigs, group_sums, &seen)
+                    },
+                )
+            })
             .collect();
         for (found, rays) in done {
             refined += rays;

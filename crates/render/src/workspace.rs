@@ -2,10 +2,8 @@
 //! to tile.
 
 use crate::tiles::BandLists;
-use crossbeam_utils::CachePadded;
-use std::sync::Mutex;
 use sv_math::{DVec3, Ray};
-use sv_trace::{Hit, LightAt, Occluders, Prepared, Scratch, ShadowBuffers};
+use sv_trace::{Hit, LightAt, Occluders, PerThread, Prepared, Scratch, ShadowBuffers};
 
 /// A worker's memory, reused from tile to tile.
 pub(crate) struct Workspace<'a> {
@@ -62,36 +60,5 @@ impl<'a> Workspace<'a> {
     }
 }
 
-/// One [`Workspace`] per worker thread, made once a render: a `Scratch` is
-/// sized by the body count, too big to make for every piece of work. Each
-/// is made by its own thread on first use, so that its heap blocks come
-/// from that thread's arena, and each sits on cache lines of its own:
-/// workers that wrote to one line (a small vector, or neighbouring vector
-/// headers) made two threads barely faster than one.
-pub(crate) struct Workers<'a> {
-    slots: Vec<CachePadded<Mutex<Option<Workspace<'a>>>>>,
-}
-
-impl<'a> Workers<'a> {
-    /// A slot for each thread of the current pool.
-    pub(crate) fn new() -> Workers<'a> {
-        Workers {
-            slots: (0..rayon::current_num_threads())
-                .map(|_| CachePadded::new(Mutex::new(None)))
-                .collect(),
-        }
-    }
-
-    /// Run `work` with the calling thread's workspace, made by `make` on
-    /// its first use.
-    #[inline]
-    pub(crate) fn with<R>(
-        &self,
-        make: impl FnOnce() -> Workspace<'a>,
-        work: impl FnOnce(&mut Workspace<'a>) -> R,
-    ) -> R {
-        let i = rayon::current_thread_index().unwrap_or(0) % self.slots.len();
-        let mut slot = self.slots[i].lock().unwrap_or_else(|e| e.into_inner());
-        work(slot.get_or_insert_with(make))
-    }
-}
+/// One [`Workspace`] per worker thread, made once a render.
+pub(crate) type Workers<'a> = PerThread<Workspace<'a>>;

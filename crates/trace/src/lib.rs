@@ -30,6 +30,7 @@ mod hit;
 mod lightbuf;
 mod occlusion;
 mod packet;
+mod per_thread;
 mod prepare;
 mod query;
 mod raster;
@@ -42,6 +43,7 @@ pub use hit::{
 pub use lightbuf::{LightBuffer, PointBuffer, ShadowBuffer};
 pub use occlusion::{LightAt, Occluders, ShadowBuffers};
 pub use packet::{RaysShare, Tile, FACING_MISS};
+pub use per_thread::PerThread;
 pub use prepare::{PrepareError, PrepareOptions, Prepared};
 pub use sv_geom::Warning;
 

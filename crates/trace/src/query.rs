@@ -555,6 +555,15 @@ pub(crate) fn insert_by_entry(parts: &mut Vec<Partition>, part: Partition) {
             .then(p.region.cmp(&part.region))
             .is_gt()
     };
+    // Most come after the last: entered later (a comparison that NaN
+    // and a signed zero fail, to be ordered below).
+    if parts
+        .last()
+        .is_none_or(|last| part.span.a.t > last.span.a.t)
+    {
+        parts.push(part);
+        return;
+    }
     let mut at = parts.len();
     parts.push(part);
     while at > 0 && after(&parts[at - 1]) {

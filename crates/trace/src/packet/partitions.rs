@@ -300,46 +300,36 @@ impl HeldSpans {
         if self.alike != 0 {
             self.part_lanes(parts);
         }
-        let mut lanes = (first | second) & !self.alike;
-        self.filling |= lanes != 0;
-        while lanes != 0 {
-            let j = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            let (lane, region) = (&mut parts[j], self.region);
-            if first & (1 << j) != 0 {
-                let span = lane_span::<BODIES>(&self.cur, j);
-                insert_by_entry(lane, Partition { region, span });
-            }
-            if second & (1 << j) != 0 {
-                let span = lane_span::<BODIES>(&self.next, j);
-                insert_by_entry(lane, Partition { region, span });
+        self.filling |= (first | second) & !self.alike != 0;
+        // Each lane's first span before its second (which lie in order).
+        for (mut lanes, ends) in [(first, &self.cur), (second, &self.next)] {
+            lanes &= !self.alike;
+            while lanes != 0 {
+                let j = lanes.trailing_zeros() as usize;
+                lanes &= lanes - 1;
+                let (region, span) = (self.region, lane_span::<BODIES>(ends, j));
+                insert_by_entry(&mut parts[j], Partition { region, span });
             }
         }
         (self.first, self.second) = (0, 0);
     }
 
     /// Make the lists of the lanes not made whose spans held differ from
-    /// the lane before's, before those are handed out.
+    /// the lane before's, before those are handed out: a lane holding
+    /// more or fewer spans than the lane before, or spans whose ends are
+    /// not the same to the bit. Worked out for all lanes at once, as
+    /// masks: lane by lane, which lanes part is not predictable.
     #[inline(always)]
     fn part_lanes(&mut self, parts: &mut [Vec<Partition>]) {
         let (first, second) = (self.first, self.second);
-        let bit = |lanes: u32, k: usize| lanes >> k & 1;
-        let same = |ends: &[[f64; MAX_LANES]; 6], j: usize| {
-            ends[0][j].to_bits() == ends[0][j - 1].to_bits()
-                && ends[3][j].to_bits() == ends[3][j - 1].to_bits()
-        };
-        let mut apart = 0;
-        let mut lanes = self.alike;
-        while lanes != 0 {
-            let j = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            let alike = bit(first, j) == bit(first, j - 1)
-                && bit(second, j) == bit(second, j - 1)
-                && (bit(first, j) == 0 || same(&self.cur, j))
-                && (bit(second, j) == 0 || same(&self.next, j));
-            if !alike {
-                apart |= 1 << j;
-            }
+        let mut apart = self.alike & ((first ^ first << 1) | (second ^ second << 1));
+        // The rest hold as many spans as the lane before.
+        let left = self.alike & !apart;
+        if left & first != 0 {
+            apart |= left & first & ends_differ(&self.cur);
+        }
+        if left & second != 0 {
+            apart |= left & second & ends_differ(&self.next);
         }
         self.make(apart, parts);
     }
@@ -394,6 +384,19 @@ fn store_span<S: Simd, const BODIES: bool>(
         s.store(b.body, &mut out[4]);
         s.store(b.face, &mut out[5]);
     }
+}
+
+/// The lanes (bit `j`, from 1 on) whose distances stored by
+/// [`store_span`] in `ends` are not the lane before's, to the bit.
+#[inline(always)]
+fn ends_differ(ends: &[[f64; MAX_LANES]; 6]) -> u32 {
+    let mut differ = 0;
+    for j in 1..MAX_LANES {
+        let entry = ends[0][j].to_bits() != ends[0][j - 1].to_bits();
+        let exit = ends[3][j].to_bits() != ends[3][j - 1].to_bits();
+        differ |= u32::from(entry | exit) << j;
+    }
+    differ
 }
 
 /// The span of lane `j` of the ends stored by [`store_span`] (bodies and

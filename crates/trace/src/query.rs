@@ -363,8 +363,19 @@ impl Prepared {
         // Regions already kept, by their number modulo 64: most come
         // once, and need no search for a stretch to extend.
         let mut kept_already = 0u64;
-        let mut kept = 0;
-        for at in 0..parts.len() {
+        // Most lists hold no region twice: they are read, not rewritten.
+        // Up to the first stretch whose region may come before, each
+        // stretch is kept where it is.
+        let mut kept = parts.len();
+        for (at, part) in parts.iter().enumerate() {
+            let bit = 1u64 << (part.region % 64);
+            if kept_already & bit != 0 {
+                kept = at;
+                break;
+            }
+            kept_already |= bit;
+        }
+        for at in kept..parts.len() {
             let Partition { region, span } = parts[at];
             let bit = 1u64 << (region % 64);
             let searched = kept_already & bit != 0;

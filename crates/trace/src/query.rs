@@ -392,7 +392,10 @@ impl Prepared {
                     }
                 }
                 _ => {
-                    parts[kept] = parts[at];
+                    // Until a stretch is merged, each stays where it is.
+                    if kept != at {
+                        parts[kept] = parts[at];
+                    }
                     kept += 1;
                 }
             }

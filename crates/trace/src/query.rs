@@ -366,16 +366,17 @@ impl Prepared {
         // Most lists hold no region twice: they are read, not rewritten.
         // Up to the first stretch whose region may come before, each
         // stretch is kept where it is.
-        let mut kept = parts.len();
+        let mut first_repeat = parts.len();
         for (at, part) in parts.iter().enumerate() {
             let bit = 1u64 << (part.region % 64);
             if kept_already & bit != 0 {
-                kept = at;
+                first_repeat = at;
                 break;
             }
             kept_already |= bit;
         }
-        for at in kept..parts.len() {
+        let mut kept = first_repeat;
+        for at in first_repeat..parts.len() {
             let Partition { region, span } = parts[at];
             let bit = 1u64 << (region % 64);
             let searched = kept_already & bit != 0;

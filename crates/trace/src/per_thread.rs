@@ -34,7 +34,9 @@ impl<T> PerThread<T> {
     }
 
     /// Run `work` with the calling thread's `T`, made by `make` on its
-    /// first use.
+    /// first use. `work` must not wait on other work of the pool (a
+    /// parallel iterator of its own): the thread could take up a piece
+    /// that asks for the slot it holds.
     #[inline]
     pub fn with<R>(&self, make: impl FnOnce() -> T, work: impl FnOnce(&mut T) -> R) -> R {
         let i = rayon::current_thread_index().unwrap_or(0) % self.slots.len();

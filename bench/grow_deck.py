@@ -81,22 +81,25 @@ def numbers(line_no, cards):
     return values
 
 
-def moved(line_no, kind, values, offset):
-    values = list(values)
+def moved_fields(line_no, kind):
+    """The numbers of a `kind` body that a move adds to, each with its axis
+    (a HAF's distance is worked out from its normal instead)."""
     if kind == "RPP":
-        for k in range(6):
-            values[k] += offset[k // 2]
-    elif kind == "HAF":
+        return [(k, k // 2) for k in range(6)]
+    if kind in POINTS:
+        return [(first + k, k) for first in POINTS[kind] for k in range(3)]
+    if kind == "HAF":
+        return []
+    fail(line_no, f"body type {kind} is not one this script can move")
+
+
+def moved(kind, values, fields, offset):
+    values = list(values)
+    for k, axis in fields:
+        values[k] += offset[axis]
+    if kind == "HAF":
         # The solid is N.x <= -d: moved by o, d becomes d - N.o.
         values[3] -= sum(values[k] * offset[k] for k in range(3))
-    elif kind in POINTS:
-        for first in POINTS[kind]:
-            for k in range(3):
-                if values[first + k] is None:
-                    fail(line_no, f"{kind} is missing a coordinate")
-                values[first + k] += offset[k]
-    else:
-        fail(line_no, f"body type {kind} is not one this script can move")
     return values
 
 
@@ -141,7 +144,12 @@ def main():
     for line_no, cards in bodies:
         kind = cards[0][5:10].strip().upper()
         values = numbers(line_no, cards)
-        parsed.append((line_no, cards, kind, values))
+        fields = moved_fields(line_no, kind)
+        read = [k for k, _ in fields] + ([0, 1, 2, 3] if kind == "HAF" else [])
+        if any(k >= len(values) or values[k] is None for k in read):
+            fail(line_no, f"{kind} body {cards[0][:5].strip()} is missing a number "
+                 f"({len(cards)} card(s) with {sum(v is not None for v in values)} numbers)")
+        parsed.append((line_no, cards, kind, values, fields))
         if kind == "RPP":
             corners = [values[0:6:2], values[1:6:2]]
         elif kind in POINTS and kind.startswith("ARB"):
@@ -160,8 +168,8 @@ def main():
     copies = [(i * step[0], j * step[1], 0.0) for j in range(args.ny) for i in range(args.nx)]
     out_bodies, out_regions, out_idents = [], [], []
     for c, offset in enumerate(copies):
-        for line_no, cards, kind, values in parsed:
-            new = moved(line_no, kind, values, offset)
+        for line_no, cards, kind, values, fields in parsed:
+            new = moved(kind, values, fields, offset)
             number = int(cards[0][:5]) + c * n_bodies
             for n, card in enumerate(cards):
                 # The number as the deck writes it (to the left or the

@@ -1,7 +1,7 @@
 //! Firing a check's rays: chunk by chunk on the rayon pool, grid rays in
 //! packets along their rows, each chunk's findings summed by kind.
 
-use crate::analyse::{FindingKind, RayCheck};
+use crate::analyse::{Finding, FindingKind, RayCheck};
 use crate::check::{CheckOptions, Plan};
 use crate::grid::random_ray;
 use crate::model::Model;
@@ -218,7 +218,7 @@ fn refine_chunks(
                 // A ray that sees what an end of its piece sees meets
                 // regions that are marked (as a grid ray's, below).
                 let seen = (!as_an_end).then_some(seen);
-                gather(ray_check, ray, id, 0.0, chunk_sums, seen);
+                gather(ray_check, ray, (id, 0.0), chunk_sums, (seen, false));
             },
         );
     }
@@ -459,7 +459,7 @@ fn fire_chunk(
             // that one met (but for a collision of 64-bit hashes, which the
             // refinement relies on too), and they are marked.
             let seen = (!as_before).then_some(seen);
-            gather(ray_check, ray, at, area, &mut sums, seen);
+            gather(ray_check, ray, (at, area), &mut sums, (seen, repeated));
         },
     );
     let randoms = (chunk * CHUNK).max(grid_rays) - grid_rays..end.saturating_sub(grid_rays);
@@ -469,7 +469,7 @@ fn fire_chunk(
             let ray_check = &mut worker.ray_check;
             ray_check.run(&ray, t0, t1, tolerance);
             let at = grid_rays + random_index;
-            gather(ray_check, &ray, at, 0.0, &mut sums, Some(seen));
+            gather(ray_check, &ray, (at, 0.0), &mut sums, (Some(seen), false));
         }
     }
     worker.kinds = sums.sums.len();
@@ -554,21 +554,21 @@ fn fire_grid_rays(
 }
 
 /// Add the findings of ray `index` (standing for `area`) to `sums`, and
-/// mark the regions it met in `seen` (`None`: they are marked). Most rays
-/// find nothing and meet regions already marked: they return here, at
-/// the caller, without a call.
+/// mark the regions it met in `seen` (`None`: they are marked).
+/// `repeated`: the ray's findings are those of ray `index - 1`, to the
+/// bit. Most rays find nothing and meet regions already marked: they
+/// return here, at the caller, without a call.
 #[inline(always)]
 fn gather(
     ray_check: &RayCheck,
     ray: &Ray,
-    index: u64,
-    area: f64,
+    (index, area): (u64, f64),
     sums: &mut KindSums,
-    seen: Option<&Met>,
+    (seen, repeated): (Option<&Met>, bool),
 ) {
     let marking = seen.filter(|seen| !seen.all_marked());
     if marking.is_some() || !ray_check.findings.is_empty() {
-        gather_findings(ray_check, ray, (index, area), sums, marking);
+        gather_findings(ray_check, ray, (index, area), sums, (marking, repeated));
     }
 }
 
@@ -579,16 +579,26 @@ fn gather_findings(
     ray: &Ray,
     (index, area): (u64, f64),
     sums: &mut KindSums,
-    seen: Option<&Met>,
+    (seen, repeated): (Option<&Met>, bool),
 ) {
     if let Some(seen) = seen {
         seen.mark(&ray_check.parts);
     }
-    for finding in &ray_check.findings {
-        let length = finding.t1 - finding.t0;
-        let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
-        sums.add(finding.kind, (length, area, index), midpoint);
+    let findings = &ray_check.findings;
+    if repeated && index.checked_sub(1) == sums.last_ray {
+        // The ray before was added last, and its findings went where
+        // these go: most of a boxy deck's findings are repeats.
+        sums.add_as_before(findings, area);
+    } else {
+        sums.last_places.clear();
+        for finding in findings {
+            let length = finding.t1 - finding.t0;
+            let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
+            let at = sums.add(finding.kind, (length, area, index), midpoint);
+            sums.last_places.push(at);
+        }
     }
+    sums.last_ray = Some(index);
 }
 
 /// The regions any ray has met, marked by the rays of all threads.
@@ -638,6 +648,10 @@ pub(crate) struct KindSums {
     /// hashed to it (0: none yet, or an index past 254). Bytes: the table
     /// is made and moved for every chunk.
     slots: [u8; KIND_SLOTS],
+    /// The ray whose findings were added last, and where in `sums` each
+    /// of them went, in order.
+    last_ray: Option<u64>,
+    last_places: Vec<u32>,
 }
 
 /// Slots of [`KindSums`]'s table: a power of two.
@@ -649,6 +663,8 @@ impl KindSums {
         KindSums {
             sums: Vec::with_capacity(kinds),
             slots: [0; KIND_SLOTS],
+            last_ray: None,
+            last_places: Vec::new(),
         }
     }
 }
@@ -671,13 +687,14 @@ fn kind_slot(kind: FindingKind) -> usize {
 impl KindSums {
     /// Add a stretch of kind `kind`, `length` long, on ray `index` standing
     /// for `area`: as [`Acc::merge`] of the stretch alone, its midpoint
-    /// worked out only when it is the longest so far.
+    /// worked out only when it is the longest so far; where in `sums` it
+    /// went.
     fn add(
         &mut self,
         kind: FindingKind,
         (length, area, index): (f64, f64, u64),
         midpoint: impl FnOnce() -> DVec3,
-    ) {
+    ) -> u32 {
         let slot = kind_slot(kind);
         let at = match self.slots[slot].checked_sub(1) {
             Some(at) if self.sums[usize::from(at)].0 == kind => Some(usize::from(at)),
@@ -695,7 +712,7 @@ impl KindSums {
                 hits: 1,
             };
             self.sums.push((kind, stretch));
-            return;
+            return (self.sums.len() - 1) as u32;
         };
         self.slots[slot] = slot_of(at);
         let sum = &mut self.sums[at].1;
@@ -707,11 +724,27 @@ impl KindSums {
             sum.point = midpoint();
             sum.at = index;
         }
+        at as u32
+    }
+
+    /// [`KindSums::add`] of each of `findings`, those of the ray added
+    /// last, to the bit, where that ray's went: none is the longest of its
+    /// kind (one as long came first), so only the totals change.
+    fn add_as_before(&mut self, findings: &[Finding], area: f64) {
+        debug_assert_eq!(self.last_places.len(), findings.len());
+        for (finding, &at) in findings.iter().zip(&self.last_places) {
+            let length = finding.t1 - finding.t0;
+            let sum = &mut self.sums[at as usize].1;
+            sum.total += length;
+            sum.weighted += length * area;
+            sum.hits += 1;
+        }
     }
 
     /// The sums in order of kind, taken (none are left).
     fn take_sorted(&mut self) -> ChunkFindings {
         let mut sums = std::mem::take(&mut self.sums);
+        self.last_ray = None;
         sums.sort_by_key(|entry| entry.0);
         sums
     }
@@ -790,6 +823,69 @@ REGION C = +c
             if universe == UniverseChoice::None {
                 assert!(repeated_rays > 1000, "{repeated_rays} rays repeated");
             }
+        }
+    }
+
+    /// The findings of a ray that repeats the ray before are added where
+    /// that ray's went, unlooked-up: the sums are those of adding every
+    /// ray's findings as new, to the bit. Two boxes overlap in a cube
+    /// whose faces are square to the rays, so that most rays through it
+    /// repeat the ray before, overlap and all.
+    #[test]
+    fn repeated_rays_add_what_looking_their_kinds_up_adds() {
+        let boxes = "
+BODY x RPP 0 2 0 2 0 2
+BODY y RPP 1 3 1 3 1 3
+BODY z SPH (2,2,2) 0.7
+REGION X = +x
+REGION Y = +y
+REGION Z = +z
+";
+        let source = SourceFile::new("test.sv", boxes);
+        let scene = load_source(&source, Format::Native, &LoadOptions::default())
+            .expect("the test scene reads")
+            .scene;
+        let (model, _) = Model::new(&scene, &UniverseChoice::None).expect("the test model");
+        let opts = CheckOptions {
+            spacing: Some(0.03),
+            ..CheckOptions::default()
+        };
+        let plan = Plan::new(&model, &opts).expect("the plan");
+        let mut worker = Worker::new(&model);
+        let (mut as_before, mut looked_up) =
+            (KindSums::with_capacity(0), KindSums::with_capacity(0));
+        let mut repeats_finding = 0;
+        fire_grid_rays(
+            &model,
+            &plan,
+            &mut worker,
+            0..plan.grid.total(),
+            |ray_check, ray, at, area, repeated| {
+                gather(ray_check, ray, (at, area), &mut as_before, (None, repeated));
+                gather(ray_check, ray, (at, area), &mut looked_up, (None, false));
+                repeats_finding += u64::from(repeated && !ray_check.findings.is_empty());
+            },
+        );
+        assert!(
+            repeats_finding > 1000,
+            "{repeats_finding} repeated rays found something"
+        );
+        let (as_before, looked_up) = (as_before.take_sorted(), looked_up.take_sorted());
+        assert_eq!(as_before.len(), 3, "{as_before:?}");
+        for ((kind, sum), (other_kind, other)) in as_before.iter().zip(&looked_up) {
+            assert_eq!(kind, other_kind);
+            let bits = |acc: &Acc| {
+                let point = acc.point.to_array().map(f64::to_bits);
+                (
+                    acc.total.to_bits(),
+                    acc.weighted.to_bits(),
+                    acc.max.to_bits(),
+                    point,
+                    acc.at,
+                    acc.hits,
+                )
+            };
+            assert_eq!(bits(sum), bits(other), "{kind:?}");
         }
     }
 }

@@ -69,6 +69,9 @@ pub trait Simd: Copy {
     fn bits(self, m: Self::M) -> u32;
     /// The mask of the low `LANES` bits of `b`.
     fn mask(self, b: u32) -> Self::M;
+    /// The lanes (bit `j`) whose value in `a` is not lane `j - 1`'s, to
+    /// the bit (`-0` is not `+0`; the same NaN is the same); bit 0 clear.
+    fn differ_from_lane_before(self, a: Self::F) -> u32;
     /// The least lane. Its answer with a lane that is not a number differs
     /// from one instruction set to another: give it numbers.
     fn min_lane(self, a: Self::F) -> f64;
@@ -212,6 +215,12 @@ impl<const P: usize> Simd for Portable<P> {
         lanes(|i| b & (1 << i) != 0)
     }
     #[inline(always)]
+    fn differ_from_lane_before(self, a: Self::F) -> u32 {
+        (1..P).fold(0, |b, i| {
+            b | u32::from(a[i].to_bits() != a[i - 1].to_bits()) << i
+        })
+    }
+    #[inline(always)]
     fn min_lane(self, a: Self::F) -> f64 {
         a.iter().fold(f64::INFINITY, |m, &v| m.min(v))
     }
@@ -353,6 +362,16 @@ mod x86 {
         #[inline(always)]
         fn mask(self, b: u32) -> Self::M {
             b as u8
+        }
+        #[inline(always)]
+        fn differ_from_lane_before(self, a: Self::F) -> u32 {
+            unsafe {
+                // Lane j of `before` is lane j - 1 of `a` (lane 0, lane 0).
+                let before = _mm512_permutexvar_pd(_mm512_set_epi64(6, 5, 4, 3, 2, 1, 0, 0), a);
+                let differ =
+                    _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(a), _mm512_castpd_si512(before));
+                u32::from(differ)
+            }
         }
         #[inline(always)]
         fn gather(self, v: &[f64], first: usize, stride: usize) -> Self::F {
@@ -509,5 +528,67 @@ mod x86 {
                 _mm256_castsi256_pd(_mm256_cmpeq_epi64(set, lane))
             }
         }
+        #[inline(always)]
+        fn differ_from_lane_before(self, a: Self::F) -> u32 {
+            unsafe {
+                // Lane j of `before` is lane j - 1 of `a` (lane 0, lane 0).
+                let before = _mm256_permute4x64_pd::<0b10_01_00_00>(a);
+                let same = _mm256_cmpeq_epi64(_mm256_castpd_si256(a), _mm256_castpd_si256(before));
+                !(_mm256_movemask_pd(_mm256_castsi256_pd(same)) as u32) & 0b1110
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Values whose neighbours are equal as numbers but not to the bit
+    /// (`-0` and `+0`), the same NaN, and plain neighbours equal and not.
+    const ROWS: [[f64; 8]; 4] = [
+        [1.0, 1.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0],
+        [0.0, -0.0, -0.0, 0.0, 0.0, 5.0, 5.0, -5.0],
+        [
+            f64::NAN,
+            f64::NAN,
+            1.0,
+            f64::NAN,
+            -0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::INFINITY,
+        ],
+        [7.0, 6.0, 5.0, 4.0, 3.0, 2.0, 1.0, 0.0],
+    ];
+
+    /// Lane by lane, as the lanes' bits compare.
+    fn expected(row: &[f64], lanes: usize) -> u32 {
+        (1..lanes).fold(0, |b, j| {
+            b | u32::from(row[j].to_bits() != row[j - 1].to_bits()) << j
+        })
+    }
+
+    #[test]
+    fn lanes_differ_from_the_lane_before_to_the_bit() {
+        for row in &ROWS {
+            let portable = Portable::<8>;
+            let got = portable.differ_from_lane_before(portable.load(row));
+            assert_eq!(got, expected(row, 8), "{row:?}");
+            let portable = Portable::<4>;
+            let got = portable.differ_from_lane_before(portable.load(row));
+            assert_eq!(got, expected(row, 4), "{row:?}");
+            #[cfg(target_arch = "x86_64")]
+            {
+                if let Some(s) = Avx512::detect() {
+                    assert_eq!(s.differ_from_lane_before(s.load(row)), expected(row, 8));
+                }
+                if let Some(s) = Avx2::detect() {
+                    assert_eq!(s.differ_from_lane_before(s.load(row)), expected(row, 4));
+                }
+            }
+        }
+        // The rows above hold every case in some lane.
+        assert_eq!(expected(&ROWS[1], 8), 0b1010_1010);
     }
 }

@@ -264,6 +264,11 @@ struct HeldSpans {
     /// The two spans' ends: distance, body and face of each end.
     cur: [[f64; MAX_LANES]; 6],
     next: [[f64; MAX_LANES]; 6],
+    /// While lanes are not made: the lanes (from the second on) whose
+    /// first span, and whose second, do not end where the lane before's
+    /// do, to the bit (whatever each lane holds).
+    cur_apart: u32,
+    next_apart: u32,
     /// The lanes whose lists are not made: each has met what the lane
     /// before it met.
     alike: u32,
@@ -287,6 +292,17 @@ impl HeldSpans {
         store_span::<S, BODIES>(s, cur, &mut self.cur);
         if second != 0 {
             store_span::<S, BODIES>(s, next, &mut self.next);
+        }
+        // Compared in the vectors, before they are stored: lanes not made
+        // only become fewer until the spans are handed out.
+        if self.alike != 0 {
+            let apart = |sp: &SpanLanes<S>| {
+                s.differ_from_lane_before(sp.a.t) | s.differ_from_lane_before(sp.b.t)
+            };
+            self.cur_apart = apart(cur);
+            if second != 0 {
+                self.next_apart = apart(next);
+            }
         }
     }
 
@@ -325,12 +341,7 @@ impl HeldSpans {
         let mut apart = self.alike & ((first ^ first << 1) | (second ^ second << 1));
         // The rest hold as many spans as the lane before.
         let left = self.alike & !apart;
-        if left & first != 0 {
-            apart |= left & first & ends_differ(&self.cur);
-        }
-        if left & second != 0 {
-            apart |= left & second & ends_differ(&self.next);
-        }
+        apart |= left & (first & self.cur_apart | second & self.next_apart);
         self.make(apart, parts);
     }
 
@@ -384,19 +395,6 @@ fn store_span<S: Simd, const BODIES: bool>(
         s.store(b.body, &mut out[4]);
         s.store(b.face, &mut out[5]);
     }
-}
-
-/// The lanes (bit `j`, from 1 on) whose distances stored by
-/// [`store_span`] in `ends` are not the lane before's, to the bit.
-#[inline(always)]
-fn ends_differ(ends: &[[f64; MAX_LANES]; 6]) -> u32 {
-    let mut differ = 0;
-    for j in 1..MAX_LANES {
-        let entry = ends[0][j].to_bits() != ends[0][j - 1].to_bits();
-        let exit = ends[3][j].to_bits() != ends[3][j - 1].to_bits();
-        differ |= u32::from(entry | exit) << j;
-    }
-    differ
 }
 
 /// The span of lane `j` of the ends stored by [`store_span`] (bodies and

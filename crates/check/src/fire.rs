@@ -584,21 +584,7 @@ fn gather_findings(
     if let Some(seen) = seen {
         seen.mark(&ray_check.parts);
     }
-    let findings = &ray_check.findings;
-    if repeated && index.checked_sub(1) == sums.last_ray {
-        // The ray before was added last, and its findings went where
-        // these go: most of a boxy deck's findings are repeats.
-        sums.add_as_before(findings, area);
-    } else {
-        sums.last_places.clear();
-        for finding in findings {
-            let length = finding.t1 - finding.t0;
-            let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
-            let at = sums.add(finding.kind, (length, area, index), midpoint);
-            sums.last_places.push(at);
-        }
-    }
-    sums.last_ray = Some(index);
+    sums.add_ray(&ray_check.findings, ray, (index, area), repeated);
 }
 
 /// The regions any ray has met, marked by the rays of all threads.
@@ -652,6 +638,8 @@ pub(crate) struct KindSums {
     /// of them went, in order.
     last_ray: Option<u64>,
     last_places: Vec<u32>,
+    /// While a ray's findings are added: the places of the ray before.
+    places_before: Vec<u32>,
 }
 
 /// Slots of [`KindSums`]'s table: a power of two.
@@ -665,6 +653,7 @@ impl KindSums {
             slots: [0; KIND_SLOTS],
             last_ray: None,
             last_places: Vec::new(),
+            places_before: Vec::new(),
         }
     }
 }
@@ -685,20 +674,57 @@ fn kind_slot(kind: FindingKind) -> usize {
 }
 
 impl KindSums {
-    /// Add a stretch of kind `kind`, `length` long, on ray `index` standing
-    /// for `area`: as [`Acc::merge`] of the stretch alone, its midpoint
-    /// worked out only when it is the longest so far; where in `sums` it
-    /// went.
+    /// Add `findings`, those of ray `ray` of index `index` standing for
+    /// `area`; `repeated`: they are those of ray `index - 1`, to the bit.
+    fn add_ray(
+        &mut self,
+        findings: &[Finding],
+        ray: &Ray,
+        (index, area): (u64, f64),
+        repeated: bool,
+    ) {
+        if repeated && index.checked_sub(1) == self.last_ray {
+            // The ray before was added last, and its findings went where
+            // these go: most of a boxy deck's findings are repeats.
+            self.add_as_before(findings, area);
+        } else {
+            // The places of the ray added last are where these are first
+            // looked for when their slots hold other kinds.
+            std::mem::swap(&mut self.last_places, &mut self.places_before);
+            self.last_places.clear();
+            for (nth, finding) in findings.iter().enumerate() {
+                let length = finding.t1 - finding.t0;
+                let midpoint = || ray.at(0.5 * (finding.t0 + finding.t1));
+                let at = self.add((finding.kind, nth), (length, area, index), midpoint);
+                self.last_places.push(at);
+            }
+        }
+        self.last_ray = Some(index);
+    }
+
+    /// Add a stretch of kind `kind`, the `nth` finding of its ray,
+    /// `length` long, on ray `index` standing for `area`: as
+    /// [`Acc::merge`] of the stretch alone, its midpoint worked out only
+    /// when it is the longest so far; where in `sums` it went.
     fn add(
         &mut self,
-        kind: FindingKind,
+        (kind, nth): (FindingKind, usize),
         (length, area, index): (f64, f64, u64),
         midpoint: impl FnOnce() -> DVec3,
     ) -> u32 {
         let slot = kind_slot(kind);
         let at = match self.slots[slot].checked_sub(1) {
             Some(at) if self.sums[usize::from(at)].0 == kind => Some(usize::from(at)),
-            _ => self.sums.iter().position(|(k, _)| *k == kind),
+            // No kind has hashed to the slot (while every index fits one):
+            // the kind is new to the chunk.
+            None if self.sums.len() <= usize::from(u8::MAX) => None,
+            // Another kind holds the slot: two kinds of one ray that share
+            // a slot take it in turns, and each is where the ray before
+            // had it.
+            _ => match self.places_before.get(nth) {
+                Some(&at) if self.sums[at as usize].0 == kind => Some(at as usize),
+                _ => self.sums.iter().position(|(k, _)| *k == kind),
+            },
         };
         let slot_of = |at: usize| u8::try_from(at + 1).unwrap_or(0);
         let Some(at) = at else {
@@ -745,6 +771,8 @@ impl KindSums {
     fn take_sorted(&mut self) -> ChunkFindings {
         let mut sums = std::mem::take(&mut self.sums);
         self.last_ray = None;
+        self.last_places.clear();
+        self.places_before.clear();
         sums.sort_by_key(|entry| entry.0);
         sums
     }
@@ -826,6 +854,77 @@ REGION C = +c
         }
     }
 
+    /// Kinds that share a slot of the table and take it in turns within
+    /// each ray, a kind new to the chunk on some rays and not others, rays
+    /// that repeat the ray before and rays that do not: each kind's sums
+    /// are those of merging its findings one by one.
+    #[test]
+    fn kinds_sharing_a_slot_sum_as_each_finding_merged_alone() {
+        let first = FindingKind::Overlap(0, 1);
+        let second = (2..)
+            .map(|b| FindingKind::Overlap(0, b))
+            .find(|&kind| kind_slot(kind) == kind_slot(first))
+            .expect("a kind in the first's slot");
+        let third = FindingKind::Void(None, Some(3));
+        let ray = Ray::new(DVec3::ZERO, DVec3::new(1.0, 2.0, 2.0));
+        let (area, mut sums) = (0.25, KindSums::with_capacity(0));
+        let mut merged: Vec<(FindingKind, Acc)> = Vec::new();
+        let (mut findings, mut repeats) = (Vec::new(), 0);
+        for index in 0..300u64 {
+            let repeated = index % 3 == 2;
+            if !repeated {
+                findings.clear();
+                let t0 = index as f64 * 0.01;
+                for (nth, kind) in [first, second, third, first, second]
+                    .into_iter()
+                    .enumerate()
+                {
+                    // Each ray finds some of them, of lengths of its own.
+                    if !(index as usize + nth).is_multiple_of(4) {
+                        let t1 = t0 + 0.5 + nth as f64 * 0.1 + (index % 7) as f64 * 0.03;
+                        findings.push(Finding { kind, t0, t1 });
+                    }
+                }
+            }
+            repeats += u64::from(repeated);
+            sums.add_ray(&findings, &ray, (index, area), repeated);
+            for finding in &findings {
+                let length = finding.t1 - finding.t0;
+                let alone = Acc {
+                    total: length,
+                    weighted: length * area,
+                    max: length,
+                    point: ray.at(0.5 * (finding.t0 + finding.t1)),
+                    at: index,
+                    hits: 1,
+                };
+                match merged.iter_mut().find(|(kind, _)| *kind == finding.kind) {
+                    Some((_, sum)) => sum.merge(&alone),
+                    None => merged.push((finding.kind, alone)),
+                }
+            }
+        }
+        assert_eq!(repeats, 100);
+        merged.sort_by_key(|entry| entry.0);
+        let sums = sums.take_sorted();
+        assert_eq!(sums.len(), 3);
+        for ((kind, sum), (other_kind, other)) in sums.iter().zip(&merged) {
+            assert_eq!(kind, other_kind);
+            assert_eq!(acc_bits(sum), acc_bits(other), "{kind:?}");
+        }
+    }
+
+    /// An [`Acc`]'s numbers to the bit.
+    fn acc_bits(acc: &Acc) -> (u64, u64, u64, [u64; 3], u64, u64) {
+        let point = acc.point.to_array().map(f64::to_bits);
+        let (total, weighted, max) = (
+            acc.total.to_bits(),
+            acc.weighted.to_bits(),
+            acc.max.to_bits(),
+        );
+        (total, weighted, max, point, acc.at, acc.hits)
+    }
+
     /// The findings of a ray that repeats the ray before are added where
     /// that ray's went, unlooked-up: the sums are those of adding every
     /// ray's findings as new, to the bit. Two boxes overlap in a cube
@@ -874,18 +973,7 @@ REGION Z = +z
         assert_eq!(as_before.len(), 3, "{as_before:?}");
         for ((kind, sum), (other_kind, other)) in as_before.iter().zip(&looked_up) {
             assert_eq!(kind, other_kind);
-            let bits = |acc: &Acc| {
-                let point = acc.point.to_array().map(f64::to_bits);
-                (
-                    acc.total.to_bits(),
-                    acc.weighted.to_bits(),
-                    acc.max.to_bits(),
-                    point,
-                    acc.at,
-                    acc.hits,
-                )
-            };
-            assert_eq!(bits(sum), bits(other), "{kind:?}");
+            assert_eq!(acc_bits(sum), acc_bits(other), "{kind:?}");
         }
     }
 }

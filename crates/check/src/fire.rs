@@ -801,6 +801,22 @@ REGION B = +b
 REGION C = +c
 ";
 
+    /// The model of the native scene `text` in `universe`, and the plan of
+    /// a check of it at `spacing`.
+    fn model_and_plan(text: &str, universe: &UniverseChoice, spacing: f64) -> (Model, Plan) {
+        let source = SourceFile::new("test.sv", text);
+        let scene = load_source(&source, Format::Native, &LoadOptions::default())
+            .expect("the test scene reads")
+            .scene;
+        let (model, _) = Model::new(&scene, universe).expect("the test model prepares");
+        let opts = CheckOptions {
+            spacing: Some(spacing),
+            ..CheckOptions::default()
+        };
+        let plan = Plan::new(&model, &opts).expect("the plan");
+        (model, plan)
+    }
+
     /// Every grid ray of [`ROOM`], fired in packets along its row, finds
     /// what it finds fired alone, and has its signature: with the room as
     /// the universe (voids between the spheres, none of its rays taken as
@@ -808,17 +824,8 @@ REGION C = +c
     /// repeat).
     #[test]
     fn grid_rays_in_packets_find_what_each_finds_alone() {
-        let source = SourceFile::new("test.sv", ROOM);
-        let scene = load_source(&source, Format::Native, &LoadOptions::default())
-            .expect("the test scene reads")
-            .scene;
         for universe in [UniverseChoice::Named("room".into()), UniverseChoice::None] {
-            let (model, _) = Model::new(&scene, &universe).expect("the test model prepares");
-            let opts = CheckOptions {
-                spacing: Some(0.0913),
-                ..CheckOptions::default()
-            };
-            let plan = Plan::new(&model, &opts).expect("the plan");
+            let (model, plan) = model_and_plan(ROOM, &universe, 0.0913);
             let mut worker = Worker::new(&model);
             let mut alone = RayCheck::new(&model);
             let (mut fired, mut repeated_rays, mut found) = (0, 0, 0);
@@ -940,16 +947,7 @@ REGION X = +x
 REGION Y = +y
 REGION Z = +z
 ";
-        let source = SourceFile::new("test.sv", boxes);
-        let scene = load_source(&source, Format::Native, &LoadOptions::default())
-            .expect("the test scene reads")
-            .scene;
-        let (model, _) = Model::new(&scene, &UniverseChoice::None).expect("the test model");
-        let opts = CheckOptions {
-            spacing: Some(0.03),
-            ..CheckOptions::default()
-        };
-        let plan = Plan::new(&model, &opts).expect("the plan");
+        let (model, plan) = model_and_plan(boxes, &UniverseChoice::None, 0.03);
         let mut worker = Worker::new(&model);
         let (mut as_before, mut looked_up) =
             (KindSums::with_capacity(0), KindSums::with_capacity(0));
